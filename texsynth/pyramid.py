@@ -1,0 +1,172 @@
+"""Steerable pyramid built in the frequency domain, periodic by construction.
+
+Simoncelli and Freeman's steerable pyramid as used by Heeger and Bergen (paper 000, sections
+11.2.3 and 11.3.2; paper 001, section 2.1, eq. 1): a high-pass residual, ``scales`` levels of
+``K = orientations`` oriented band-pass subbands, and a low-pass residual. Every filter is a
+polar-separable mask on the discrete Fourier grid, so the transform is circular (the output of a
+synthesis tiles) and works for any image size, not only powers of two.
+
+The band-pass filters of level j are B_m(w) = (-i)^(K-1) alpha_K cos^(K-1)(theta - theta_m) *
+H_j(|w|), theta_m = m pi / K (eq. 1 of paper 001), and the radial masks are square roots of raised
+cosines on log2 |w| so that ``H_j^2 + L_j^2 = 1`` and the pyramid is a tight frame: synthesis is the
+adjoint of analysis and reconstructs exactly (to float32 rounding).
+
+Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
+- real FFTs (``rfft2``) and float32 / complex64 throughout;
+- radii are measured in cycles per pixel of the *full-resolution* grid, and each decimation crops
+  the spectrum and rescales it by the ratio of sizes, so band values are samples of the same
+  band-limited function whatever the image size. An exemplar and an output of different sizes
+  then have directly comparable subband statistics.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.fft as sfft
+
+__all__ = ["SteerablePyramid", "Coefficients", "max_scales"]
+
+
+def max_scales(shape: tuple[int, int]) -> int:
+    """Deepest pyramid an image of ``shape`` supports (coarsest band keeps >= 4 pixels a side)."""
+    return max(0, int(math.floor(math.log2(min(shape)))) - 2)
+
+
+def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int]):
+    """Radius (cycles per full-resolution pixel, Nyquist = 1) and angle on a level's rfft grid."""
+    h, w = shape_level
+    ky = np.fft.fftfreq(h) * h
+    kx = np.fft.rfftfreq(w) * w
+    fy = (2.0 * ky / shape_full[0])[:, None]
+    fx = (2.0 * kx / shape_full[1])[None, :]
+    radius = np.sqrt(fx * fx + fy * fy)
+    angle = np.arctan2(fy + 0 * fx, fx + 0 * fy)
+    return radius, angle
+
+
+def _radial_masks(radius: np.ndarray, top: float):
+    """(high, low) square-root raised-cosine masks for the octave ``[top/2, top]``."""
+    with np.errstate(divide="ignore"):
+        t = np.clip(np.log2(radius / top) + 1.0, 0.0, 1.0)
+    return np.sin(0.5 * np.pi * t), np.cos(0.5 * np.pi * t)
+
+
+def _angular_gain(orientations: int) -> float:
+    """alpha_K, making sum_m alpha_K^2 cos^(2(K-1))(theta - theta_m) = 1 for every theta."""
+    order = orientations - 1
+    return math.sqrt(
+        2 ** (2 * order) * math.factorial(order) ** 2
+        / (orientations * math.factorial(2 * order))
+    )
+
+
+@dataclass
+class Coefficients:
+    """Subbands of one image: ``highpass``, ``bands[scale][orientation]``, ``lowpass``."""
+
+    highpass: np.ndarray
+    bands: list[list[np.ndarray]] = field(default_factory=list)
+    lowpass: np.ndarray | None = None
+
+    def arrays(self) -> list[np.ndarray]:
+        """All subbands in a fixed order: high-pass, bands coarse-ward, low-pass."""
+        return [self.highpass, *(b for level in self.bands for b in level), self.lowpass]
+
+    def replaced(self, arrays: list[np.ndarray]) -> Coefficients:
+        """The same layout filled with ``arrays`` (in the order of :meth:`arrays`)."""
+        it = iter(arrays)
+        high = next(it)
+        bands = [[next(it) for _ in level] for level in self.bands]
+        return Coefficients(high, bands, next(it))
+
+
+class SteerablePyramid:
+    """Analysis and synthesis operators for images of one ``shape``.
+
+    Masks and cropping indices are computed once here and reused at every iteration.
+    """
+
+    def __init__(self, shape: tuple[int, int], scales: int = 4, orientations: int = 4):
+        if not 1 <= orientations <= 16:
+            raise ValueError(f"orientations must be 1..16, got {orientations}")
+        if not 0 <= scales <= max_scales(shape):
+            raise ValueError(
+                f"an image of {shape[1]} x {shape[0]} supports at most {max_scales(shape)} scales,"
+                f" {scales} were asked for"
+            )
+        self.shape = tuple(shape)
+        self.scales = scales
+        self.orientations = orientations
+        self.phase = (-1j) ** (orientations - 1)
+        gain = _angular_gain(orientations)
+        order = orientations - 1
+
+        radius, _ = _grid(self.shape, self.shape)
+        hi0, lo0 = _radial_masks(radius, 1.0)
+        self.hi0 = hi0.astype(np.float32)
+        self.lo0 = lo0.astype(np.float32)
+
+        self.level_shapes = [self.shape]
+        self.band_filters: list[list[np.ndarray]] = []
+        self.low_masks: list[np.ndarray] = []
+        self.crop_rows: list[np.ndarray] = []
+        for j in range(scales):
+            shape_j = self.level_shapes[-1]
+            radius, angle = _grid(shape_j, self.shape)
+            high, low = _radial_masks(radius, 2.0 ** -(j + 1))
+            self.band_filters.append([
+                (gain * np.cos(angle - np.pi * m / orientations) ** order * high).astype(np.float32)
+                for m in range(orientations)
+            ])
+            self.low_masks.append(low.astype(np.float32))
+            child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
+            ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
+            self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
+            self.level_shapes.append(child)
+
+    # The low-pass spectrum of level j is zero beyond half its band, so cropping the rows and
+    # columns of the lower frequencies loses nothing; scaling by the size ratio keeps values.
+    def _crop(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        parent, child = self.level_shapes[j], self.level_shapes[j + 1]
+        ratio = np.float32(child[0] * child[1] / (parent[0] * parent[1]))
+        return spectrum[self.crop_rows[j], : child[1] // 2 + 1] * ratio
+
+    def _embed(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        parent, child = self.level_shapes[j], self.level_shapes[j + 1]
+        out = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
+        ratio = np.float32(parent[0] * parent[1] / (child[0] * child[1]))
+        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio
+        return out
+
+    def analyze(self, image: np.ndarray) -> Coefficients:
+        """Subbands of a 2-D float image of this pyramid's shape."""
+        image = np.asarray(image, dtype=np.float32)
+        if image.shape != self.shape:
+            raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
+        spectrum = sfft.rfft2(image)
+        highpass = sfft.irfft2(spectrum * self.hi0, s=self.shape)
+        low = spectrum * self.lo0
+        bands = []
+        for j in range(self.scales):
+            shape_j = self.level_shapes[j]
+            bands.append([
+                sfft.irfft2(low * (f * self.phase), s=shape_j) for f in self.band_filters[j]
+            ])
+            low = self._crop(low * self.low_masks[j], j)
+        lowpass = sfft.irfft2(low, s=self.level_shapes[self.scales])
+        return Coefficients(highpass, bands, lowpass)
+
+    def synthesize(self, coeffs: Coefficients) -> np.ndarray:
+        """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
+        low = sfft.rfft2(coeffs.lowpass.astype(np.float32, copy=False))
+        conj_phase = np.conj(self.phase)
+        for j in reversed(range(self.scales)):
+            low = self._embed(low, j) * self.low_masks[j]
+            for f, band in zip(self.band_filters[j], coeffs.bands[j], strict=True):
+                low += sfft.rfft2(band.astype(np.float32, copy=False)) * (f * conj_phase)
+        high = sfft.rfft2(coeffs.highpass.astype(np.float32, copy=False))
+        spectrum = low * self.lo0 + high * self.hi0
+        return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)

@@ -1,0 +1,136 @@
+"""The method registry: every synthesis algorithm describes itself here.
+
+A :class:`Method` carries a name, a label, a description and typed :class:`Param` records. The
+Blender operator and panel are generated from :func:`methods`, so adding an algorithm means adding
+one module under ``texsynth/methods`` that calls :func:`register`; nothing else changes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["Param", "Method", "register", "methods", "get"]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One typed parameter of a method.
+
+    ``type`` is ``int``, ``float``, ``bool`` or ``str``; a ``str`` parameter lists its allowed
+    values in ``choices``. ``min``/``max`` bound numbers (inclusive).
+    """
+
+    name: str
+    type: type
+    default: Any
+    description: str
+    min: float | None = None
+    max: float | None = None
+    choices: tuple[str, ...] = ()
+    label: str = ""
+
+    def __post_init__(self):
+        if not self.label:
+            object.__setattr__(self, "label", self.name.replace("_", " ").capitalize())
+        self.validate(self.default)
+
+    def validate(self, value: Any) -> Any:
+        """Return ``value`` coerced to this parameter's type, or raise ``ValueError``."""
+        if self.type is bool:
+            if not isinstance(value, (bool, int)) or value not in (0, 1):
+                raise ValueError(f"parameter '{self.name}' must be True or False, got {value!r}")
+            return bool(value)
+        if self.type is str:
+            if value not in self.choices:
+                raise ValueError(f"parameter '{self.name}' must be one of "
+                                 f"{', '.join(self.choices)}; got {value!r}")
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"parameter '{self.name}' must be a number, got {value!r}")
+        if self.type is int:
+            if int(value) != value:
+                raise ValueError(f"parameter '{self.name}' must be a whole number, got {value!r}")
+            value = int(value)
+        else:
+            value = float(value)
+            if value != value:
+                raise ValueError(f"parameter '{self.name}' must not be NaN")
+        if self.min is not None and value < self.min:
+            raise ValueError(f"parameter '{self.name}' must be >= {self.min}, got {value}")
+        if self.max is not None and value > self.max:
+            raise ValueError(f"parameter '{self.name}' must be <= {self.max}, got {value}")
+        return value
+
+
+@dataclass(frozen=True)
+class Method:
+    """A synthesis algorithm.
+
+    ``function(exemplar, width, height, rng, progress, **params)`` receives a float32 array
+    (H, W, C), the output size, a seeded ``numpy.random.Generator`` and a
+    :class:`texsynth.progress.Progress`, and returns float32 (height, width, C) that tiles.
+    ``min_exemplar`` is the smallest exemplar side the method accepts;
+    ``memory(exemplar_shape, width, height, params)`` estimates the peak working bytes, checked
+    against the budget before anything is allocated.
+    """
+
+    name: str
+    label: str
+    description: str
+    function: Callable[..., Any]
+    params: tuple[Param, ...] = ()
+    min_exemplar: int = 8
+    memory: Callable[[tuple, int, int, dict], float] = (
+        lambda shape, width, height, params: 64.0 * width * height * shape[2]
+    )
+    reference: str = ""
+    extras: dict = field(default_factory=dict)
+
+    def param(self, name: str) -> Param:
+        for p in self.params:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    def resolve(self, params: dict) -> dict:
+        """Defaults filled in and every value validated; unknown names raise ``ValueError``."""
+        known = {p.name for p in self.params}
+        unknown = sorted(set(params) - known)
+        if unknown:
+            raise ValueError(
+                f"method '{self.name}' has no parameter {', '.join(map(repr, unknown))}; "
+                f"its parameters are: {', '.join(sorted(known)) or 'none'}"
+            )
+        return {p.name: p.validate(params.get(p.name, p.default)) for p in self.params}
+
+
+_METHODS: dict[str, Method] = {}
+
+
+def register(method: Method) -> Method:
+    """Add ``method`` to the registry (names are unique, snake_case)."""
+    if not method.name.isidentifier() or method.name.lower() != method.name:
+        raise ValueError(f"method names are snake_case identifiers, got {method.name!r}")
+    if method.name in _METHODS:
+        raise ValueError(f"method {method.name!r} is registered twice")
+    _METHODS[method.name] = method
+    return method
+
+
+def methods() -> tuple[Method, ...]:
+    """Every registered method, in registration order."""
+    from . import algorithms  # noqa: F401  (importing the package registers the methods)
+
+    return tuple(_METHODS.values())
+
+
+def get(name: str) -> Method:
+    methods()
+    try:
+        return _METHODS[name]
+    except KeyError:
+        raise ValueError(
+            f"unknown method {name!r}; available: {', '.join(_METHODS)}"
+        ) from None
