@@ -57,7 +57,8 @@ def match(source: np.ndarray, target: TargetHistogram, exact: bool = False,
     if hi <= lo:
         return np.full_like(source, target.quantile(0.5))
     scale = np.float32(bins / (hi - lo))
-    t = (flat - np.float32(lo)) * scale
+    t = np.subtract(flat, np.float32(lo))
+    t *= scale
     idx = t.astype(np.int32)
     np.minimum(idx, bins - 1, out=idx)
     t -= idx
@@ -68,6 +69,7 @@ def match(source: np.ndarray, target: TargetHistogram, exact: bool = False,
     edges = target.quantile(np.clip((cdf - 0.5) / max(n - 1, 1), 0.0, 1.0))
     base = edges[:-1]
     step = edges[1:] - base
-    out = base[idx]
-    out += t * step[idx]
+    out = np.take(base, idx)
+    t *= np.take(step, idx)
+    out += t
     return out.reshape(source.shape)

@@ -152,9 +152,8 @@ class SteerablePyramid:
         bands = []
         for j in range(self.scales):
             shape_j = self.level_shapes[j]
-            bands.append([
-                sfft.irfft2(low * (f * self.phase), s=shape_j) for f in self.band_filters[j]
-            ])
+            phased = low * np.complex64(self.phase)  # every band of a level shares (-i)^(K-1)
+            bands.append([sfft.irfft2(phased * f, s=shape_j) for f in self.band_filters[j]])
             low = self._crop(low * self.low_masks[j], j)
         lowpass = sfft.irfft2(low, s=self.level_shapes[self.scales])
         return Coefficients(highpass, bands, lowpass)
@@ -162,11 +161,15 @@ class SteerablePyramid:
     def synthesize(self, coeffs: Coefficients) -> np.ndarray:
         """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
         low = sfft.rfft2(coeffs.lowpass.astype(np.float32, copy=False))
-        conj_phase = np.conj(self.phase)
+        conj_phase = np.complex64(np.conj(self.phase))
         for j in reversed(range(self.scales)):
-            low = self._embed(low, j) * self.low_masks[j]
+            bands = np.zeros_like(low, shape=(self.level_shapes[j][0],
+                                              self.level_shapes[j][1] // 2 + 1))
             for f, band in zip(self.band_filters[j], coeffs.bands[j], strict=True):
-                low += sfft.rfft2(band.astype(np.float32, copy=False)) * (f * conj_phase)
+                bands += sfft.rfft2(band.astype(np.float32, copy=False)) * f
+            bands *= conj_phase
+            low = self._embed(low, j) * self.low_masks[j]
+            low += bands
         high = sfft.rfft2(coeffs.highpass.astype(np.float32, copy=False))
         spectrum = low * self.lo0 + high * self.hi0
         return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)

@@ -1,0 +1,66 @@
+import numpy as np
+import pytest
+
+from texsynth.pyramid import SteerablePyramid, max_scales
+
+
+@pytest.mark.parametrize("shape", [(64, 64), (37, 53), (200, 300), (128, 96)])
+@pytest.mark.parametrize("orientations", [1, 2, 4, 6, 8])
+def test_analysis_then_synthesis_reconstructs(shape, orientations):
+    x = np.random.default_rng(1).standard_normal(shape).astype(np.float32)
+    pyr = SteerablePyramid(shape, max_scales(shape), orientations)
+    coeffs = pyr.analyze(x)
+    y = pyr.synthesize(coeffs)
+    assert y.dtype == np.float32 and y.shape == shape
+    assert np.abs(y - x).max() < 1e-5
+
+
+def test_tight_frame_preserves_energy():
+    shape = (96, 80)
+    x = np.random.default_rng(2).standard_normal(shape)
+    pyr = SteerablePyramid(shape, 3, 4)
+    coeffs = pyr.analyze(x)
+    pixels = x.size
+    energy = sum((a.astype(np.float64) ** 2).sum() * pixels / a.size for a in coeffs.arrays())
+    assert energy == pytest.approx((x**2).sum(), rel=1e-5)
+
+
+def test_layout_and_level_sizes():
+    pyr = SteerablePyramid((300, 201), 3, 5)
+    coeffs = pyr.analyze(np.zeros((300, 201), np.float32))
+    assert coeffs.highpass.shape == (300, 201)
+    assert [b[0].shape for b in coeffs.bands] == [(300, 201), (150, 101), (75, 51)]
+    assert all(len(level) == 5 for level in coeffs.bands)
+    assert coeffs.lowpass.shape == (38, 26)
+    assert len(coeffs.arrays()) == 1 + 3 * 5 + 1
+
+
+def test_bands_are_shift_equivariant_so_the_transform_is_periodic():
+    x = np.random.default_rng(3).standard_normal((64, 48)).astype(np.float32)
+    pyr = SteerablePyramid((64, 48), 2, 4)
+    a = pyr.analyze(x)
+    b = pyr.analyze(np.roll(x, (5, -7), axis=(0, 1)))
+    np.testing.assert_allclose(np.roll(a.bands[0][1], (5, -7), axis=(0, 1)), b.bands[0][1],
+                               atol=1e-5)
+    np.testing.assert_allclose(np.roll(a.highpass, (5, -7), axis=(0, 1)), b.highpass, atol=1e-5)
+
+
+def test_orientation_selectivity():
+    """Stripes varying along x excite the band tuned to theta = 0 most, its orthogonal least."""
+    n = 64
+    xx = np.arange(n)[None, :].repeat(n, axis=0)
+    stripes = np.cos(2 * np.pi * xx * 12 / n).astype(np.float32)  # 0.375 cycles/px: level 0
+    pyr = SteerablePyramid((n, n), 2, 4)
+    energies = [float((b**2).sum()) for b in pyr.analyze(stripes).bands[0]]
+    assert int(np.argmax(energies)) == 0
+    assert energies[2] < 1e-6 * energies[0]
+
+
+def test_depth_is_bounded_by_the_image_size():
+    assert max_scales((8, 8)) == 1
+    assert max_scales((256, 300)) == 6
+    assert max_scales((4, 100)) == 0
+    with pytest.raises(ValueError, match="at most 1 scales"):
+        SteerablePyramid((8, 12), 2, 4)
+    with pytest.raises(ValueError, match="pyramid built for"):
+        SteerablePyramid((16, 16), 1, 4).analyze(np.zeros((16, 17), np.float32))
