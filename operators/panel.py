@@ -1,0 +1,39 @@
+"""The TexSynth tab in the Shader Editor's sidebar."""
+
+import bpy
+
+from . import properties, source
+
+
+class TEXSYNTH_PT_synthesize(bpy.types.Panel):
+    bl_label = "Texture Synthesis"
+    bl_space_type = "NODE_EDITOR"
+    bl_region_type = "UI"
+    bl_category = "TexSynth"
+
+    @classmethod
+    def poll(cls, context):
+        return getattr(context.space_data, "tree_type", "") == "ShaderNodeTree"
+
+    def draw(self, context):
+        layout = self.layout
+        try:
+            found = source.find_source(context)
+            layout.label(text=found.image, icon="IMAGE_DATA")
+        except ValueError as error:
+            layout.label(text=str(error), icon="INFO")
+        properties.draw_settings(layout, context.scene.texsynth)
+        layout.operator("texsynth.synthesize", icon="TEXTURE")
+
+
+classes = (TEXSYNTH_PT_synthesize,)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

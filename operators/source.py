@@ -1,0 +1,48 @@
+"""Which image to synthesize from: a named image, or the active Image Texture node's."""
+
+from dataclasses import dataclass
+
+import bpy
+
+
+@dataclass(frozen=True)
+class Source:
+    """The source image, and the material and node holding it (names: safe across undo)."""
+
+    image: str
+    material: str = ""  # empty when the image was named directly: no node is added
+    node: str = ""
+
+
+def find_source(context, image_name: str = "") -> Source:
+    """Raise ``ValueError`` saying what to select when there is no usable source."""
+    if image_name:
+        if image_name not in bpy.data.images:
+            raise ValueError(f"No image named '{image_name}'")
+        return Source(image_name)
+    obj = context.active_object
+    if obj is None:
+        raise ValueError("No active object: select the object whose material holds the image")
+    material = obj.active_material
+    if material is None:
+        raise ValueError(f"Object '{obj.name}' has no active material")
+    if material.node_tree is None:
+        raise ValueError(f"Material '{material.name}' has no shader nodes")
+    node = material.node_tree.nodes.active
+    if node is None:
+        raise ValueError(f"Material '{material.name}' has no active node: click the Image "
+                         "Texture node to synthesize from")
+    if node.bl_idname != "ShaderNodeTexImage":
+        raise ValueError(f"The active node '{node.name}' is a {node.bl_label} node, "
+                         "not an Image Texture node")
+    if node.image is None:
+        raise ValueError(f"Image Texture node '{node.name}' has no image")
+    return Source(node.image.name, material.name, node.name)
+
+
+def source_node(source: Source):
+    """The source's material node tree and node, or (None, None) if gone or not wanted."""
+    material = bpy.data.materials.get(source.material)
+    tree = material.node_tree if material else None
+    node = tree.nodes.get(source.node) if tree else None
+    return (tree, node) if node else (None, None)
