@@ -64,3 +64,19 @@ def test_depth_is_bounded_by_the_image_size():
         SteerablePyramid((8, 12), 2, 4)
     with pytest.raises(ValueError, match="pyramid built for"):
         SteerablePyramid((16, 16), 1, 4).analyze(np.zeros((16, 17), np.float32))
+
+
+def test_same_subbands_as_pyrtools_up_to_the_decimation_gain():
+    """Dev-only reference: pyrtools' SteerablePyramidFreq (installed by benchmarks/requirements).
+
+    pyrtools crops the spectrum without rescaling, so its level-j values are 4^j times ours.
+    """
+    pt = pytest.importorskip("pyrtools")
+    x = np.random.default_rng(5).standard_normal((64, 64))
+    reference = pt.pyramids.SteerablePyramidFreq(x, height=3, order=3).pyr_coeffs
+    ours = SteerablePyramid((64, 64), 3, 4).analyze(x.astype(np.float32))
+    np.testing.assert_allclose(ours.highpass, reference["residual_highpass"], atol=1e-4)
+    for j in range(3):
+        for m in range(4):
+            np.testing.assert_allclose(ours.bands[j][m] * 4.0**j, reference[(j, m)], atol=1e-4)
+    np.testing.assert_allclose(ours.lowpass * 64.0, reference["residual_lowpass"], atol=1e-3)
