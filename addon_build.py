@@ -1,39 +1,107 @@
 """Set up, build, validate, test and demo texsynth.
 
-    python3 addon_build.py setup     .venv with requirements-dev.txt (bpy, scipy, OpenEXR, ...)
-    python3 addon_build.py build     bundled wheels into wheels/, extension zips into dist/
-    python3 addon_build.py validate  check the manifest and the built zips
-    python3 addon_build.py demo      synthesize samples/pool_water.png at 512 x 512 into out/
-    python3 addon_build.py test      build, then ruff and pytest
+    python3 addon_build.py setup        .venv with requirements-dev.txt and the bundled packages
+    python3 addon_build.py build        wheels into wheels/, one zip per platform and the
+                                        repository listing (index.json, index.html) into dist/
+    python3 addon_build.py validate     Blender's validator on the source and every zip
+    python3 addon_build.py repo         the repository listing of the zips in dist/
+    python3 addon_build.py demo         synthesize samples/pool_water.png at 512 x 512 into out/
+    python3 addon_build.py test         what CI runs: build, ruff, pytest (Blender 5.0 = bpy
+                                        5.0.1), then what test-compat runs
+    python3 addon_build.py test-compat  build, then the Blender tests in Blender 4.2.0 and 4.5
+                                        LTS (bpy from PyPI, each in its own .venv-bpy-VERSION),
+                                        and the core tests on Python 3.13 + numpy 2 (5.1's)
 
 Any Python 3 starts it: every command first makes sure of .venv and re-runs itself there. The
-build uses the extension CLI that ships inside the bpy wheel (bl_pkg's blender_ext.py), since the
-bpy module has no Blender binary for ``blender --command extension build``.
+build, validation and listing use the extension CLI that ships inside the bpy wheel (bl_pkg's
+blender_ext.py), since the bpy module has no Blender binary for ``blender --command extension``.
+
+Bundled wheels: dependencies.py's ``BUNDLED`` names the releases (one place, also read by the
+extension's own version check), ``PLATFORMS`` below the systems. The build downloads each
+release for each platform unmodified from PyPI into wheels/ (once: later builds are offline) and
+writes blender_manifest.toml's ``platforms`` and ``wheels`` from them; that list is also the
+lock, since pip picks a wheel's exact file (its glibc or macOS tag) only when downloading.
+Blender's ``build --split-platforms`` then puts into each platform's zip only that platform's
+wheels (for every Python), listed in a generated ``[build.generated]`` table of its manifest.
 """
 
 import argparse
+import ast
 import importlib.util
 import os
+import re
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent
 VENV = REPO / ".venv"
 VENV_PYTHON = VENV / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
 REQUIREMENTS = REPO / "requirements-dev.txt"
-INSTALLED_STAMP = VENV / "requirements-dev.installed"
+INSTALLED_STAMP = "requirements-dev.installed"
+MANIFEST = REPO / "blender_manifest.toml"
+WHEELS = REPO / "wheels"
 DIST = REPO / "dist"
 OUT = REPO / "out"
 SAMPLE = REPO / "samples" / "pool_water.png"
-WHEEL_PYTHON = "3.11"  # Blender 4.2 to 5.0, and the only Python the bpy 5.0 wheel supports
+DEV_PYTHON = "3.11"  # Blender 4.2 to 5.0, and the only Python the bpy 4.2-5.0 wheels support
+
+#: Blender platform -> pip platform tags of the oldest system its zip supports: Blender 4.2+
+#: needs glibc 2.28 on Linux (pip does not expand manylinux_2_28 to older glibc tags, so they
+#: are listed) and macOS 11.2; scipy's Apple silicon wheels need macOS 12.
+PLATFORMS = {
+    "windows-x64": ("win_amd64",),
+    "macos-arm64": ("macosx_12_0_arm64",),
+    "macos-x64": ("macosx_11_0_x86_64",),
+    "linux-x64": ("manylinux_2_28_x86_64", "manylinux_2_17_x86_64", "manylinux2014_x86_64"),
+    "linux-arm64": ("manylinux_2_28_aarch64", "manylinux_2_17_aarch64", "manylinux2014_aarch64"),
+}
+
+#: Per-zip size budget (bytes); the zips hold two Pythons' scipy wheels (~35 MB each).
+ZIP_BUDGET = 150 << 20
+
+#: Older Blenders the Blender tests also run in (test-compat): bpy release -> the numpy that
+#: Blender release bundles (the bpy wheel does not pin it).
+COMPAT_BPY = {"4.2.0": "1.24.3", "4.5.15": "1.26.4"}
+#: Blender 5.1's Python, and a numpy 2 for it (what 5.1 bundles is assumed, not checked).
+NEXT_PYTHON, NEXT_NUMPY = "3.13", "2.3.5"
+
+
+def bundled() -> dict[str, dict[str, str]]:
+    """dependencies.BUNDLED, read without importing the module (it imports bpy)."""
+    tree = ast.parse((REPO / "dependencies.py").read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "BUNDLED"
+                                                for t in node.targets):
+            return ast.literal_eval(node.value)
+    raise LookupError("dependencies.py has no BUNDLED table")
+
+
+def version() -> str:
+    """The extension's version: blender_manifest.toml is the one place it is written."""
+    import tomllib
+
+    return tomllib.loads(MANIFEST.read_text())["version"]
 
 
 def _bl_pkg_scripts() -> Path:
     """Blender's scripts folder inside the bpy wheel (found without importing bpy)."""
     bpy_dir = Path(importlib.util.find_spec("bpy").submodule_search_locations[0])
     return next(bpy_dir.glob("[0-9]*.[0-9]*/scripts"))
+
+
+def _blender_ext_path() -> Path:
+    return _bl_pkg_scripts() / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
+
+
+def _blender_ext():
+    """Blender's extension CLI as a module (for its wheel-platform rules)."""
+    spec = importlib.util.spec_from_file_location("blender_ext", _blender_ext_path())
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def _run(*command, **kwargs) -> None:
@@ -46,64 +114,181 @@ def _python_311() -> str:
         return sys.executable
     found = shutil.which("python3.11")
     if not found:
-        sys.exit(f"the bpy module needs Python {WHEEL_PYTHON}; install python3.11 and run again")
+        sys.exit(f"the bpy module needs Python {DEV_PYTHON}; install python3.11 and run again")
     return found
 
 
+def _venv_python(venv: Path) -> Path:
+    return venv / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
+
+
+def _ensure_venv(venv: Path, requirements: list[str], base: str = "") -> Path:
+    """A venv of ``base`` (default Python 3.11) with ``requirements`` installed (again only when
+    they change)."""
+    python = _venv_python(venv)
+    if not python.exists():
+        _run(base or _python_311(), "-m", "venv", venv)
+    wanted = "\n".join(requirements) + "\n"
+    stamp = venv / INSTALLED_STAMP
+    if not stamp.exists() or stamp.read_text() != wanted:
+        _run(python, "-m", "pip", "install", *requirements)
+        stamp.write_text(wanted)
+    return python
+
+
 def setup() -> None:
-    """Create .venv and install requirements-dev.txt when it is missing or has changed."""
-    if not VENV_PYTHON.exists():
-        _run(_python_311(), "-m", "venv", VENV)
-    wanted = REQUIREMENTS.read_text()
-    if not INSTALLED_STAMP.exists() or INSTALLED_STAMP.read_text() != wanted:
-        _run(VENV_PYTHON, "-m", "pip", "install", "-r", REQUIREMENTS)
-        INSTALLED_STAMP.write_text(wanted)
+    """Create .venv: requirements-dev.txt, and the bundled packages at their Python 3.11 pins."""
+    lines = [line.split("#")[0].strip() for line in REQUIREMENTS.read_text().splitlines()]
+    pins = [f"{package}=={releases[DEV_PYTHON]}" for package, releases in bundled().items()]
+    _ensure_venv(VENV, [line for line in lines if line] + pins)
 
 
 def _in_venv() -> bool:
     return Path(sys.prefix).resolve() == VENV.resolve()
 
 
-def download_wheels() -> None:
-    """Fetch each wheel the manifest lists, by the name, version and platform in its file name."""
-    import tomllib  # Python 3.11+: this runs inside .venv
+# --- wheels -----------------------------------------------------------------------------
 
-    manifest = tomllib.loads((REPO / "blender_manifest.toml").read_text())
-    for wheel in manifest["wheels"]:
-        path = REPO / wheel
-        if path.exists():
-            continue
-        name, version, _python, _abi, platforms = path.stem.split("-")
+
+def _normalized(name: str) -> str:
+    return re.sub(r"[-_.]+", "_", name).lower()
+
+
+def wheel_key(filename: str, blender_ext=None) -> tuple[str, str, str, tuple[str, ...]]:
+    """(package, version, Python 'X.Y', Blender platforms) of a wheel's file name."""
+    blender_ext = blender_ext or _blender_ext()
+    parts = filename.removesuffix(".whl").split("-")
+    python_tag, platform_tag = parts[-3], parts[-1]
+    if not re.fullmatch(r"cp3\d+", python_tag):
+        raise ValueError(f"{filename}: not a CPython wheel ({python_tag})")
+    python = f"3.{python_tag[3:]}"
+    platforms = tuple(blender_ext.blender_platforms_from_wheel_platform(platform_tag))
+    return _normalized(parts[0]), parts[1], python, platforms
+
+
+def _manifest_wheels() -> list[str]:
+    import tomllib
+
+    return tomllib.loads(MANIFEST.read_text()).get("wheels", [])
+
+
+def download_wheels() -> list[str]:
+    """Every bundled wheel, as manifest paths; downloads those not in wheels/ yet and writes
+    the manifest's ``platforms`` and ``wheels`` when they differ from what BUNDLED asks for."""
+    blender_ext = _blender_ext()
+    locked = {}
+    for path in _manifest_wheels():
+        if (REPO / path).is_file():
+            package, release, python, platforms = wheel_key(Path(path).name, blender_ext)
+            for platform in platforms:
+                locked[package, release, python, platform] = path
+    wheels = []
+    for package, releases in bundled().items():
+        for python, release in releases.items():
+            for platform, tags in PLATFORMS.items():
+                key = (_normalized(package), release, python, platform)
+                path = locked.get(key) or _download(package, release, python, platform, tags,
+                                                    blender_ext)
+                if path not in wheels:
+                    wheels.append(path)
+    _write_manifest_lists(list(PLATFORMS), wheels)
+    return wheels
+
+
+def _download(package, release, python, platform, tags, blender_ext) -> str:
+    """Download one wheel unmodified (never its dependencies: numpy is Blender's)."""
+    WHEELS.mkdir(exist_ok=True)
+    with tempfile.TemporaryDirectory() as tmp:
         _run(sys.executable, "-m", "pip", "download", "--only-binary=:all:", "--no-deps",
-             "--python-version", WHEEL_PYTHON, *(f"--platform={p}" for p in platforms.split(".")),
-             "-d", path.parent, f"{name}=={version}")
-        if not path.exists():
-            sys.exit(f"pip did not produce {wheel}: check the file name in blender_manifest.toml")
+             "--implementation", "cp", "--python-version", python,
+             *(f"--platform={tag}" for tag in tags), "-d", tmp, f"{package}=={release}")
+        (wheel,) = Path(tmp).glob("*.whl")
+        got = wheel_key(wheel.name, blender_ext)
+        if got[:3] != (_normalized(package), release, python) or platform not in got[3]:
+            sys.exit(f"pip gave {wheel.name} for {package} {release}, Python {python}, "
+                     f"{platform}")
+        shutil.move(wheel, WHEELS / wheel.name)
+    return f"./wheels/{wheel.name}"
 
 
-def _extension_cli(*args) -> None:
-    scripts = _bl_pkg_scripts()
-    cli = scripts / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
-    tags = scripts / "modules" / "_bpy_internal" / "extensions" / "tags.py"
-    _run(sys.executable, cli, *args, f"--valid-tags={tags}")
+def _toml_list(name: str, items: list[str]) -> str:
+    return f"{name} = [\n" + "".join(f'  "{item}",\n' for item in items) + "]"
+
+
+def _write_manifest_lists(platforms: list[str], wheels: list[str]) -> None:
+    text = MANIFEST.read_text()
+    new = text
+    for name, items in (("platforms", platforms), ("wheels", wheels)):
+        new, count = re.subn(rf"^{name} = \[[^\]]*\]", _toml_list(name, items), new,
+                             flags=re.MULTILINE)
+        if count != 1:
+            sys.exit(f"blender_manifest.toml needs exactly one '{name} = [...]' list")
+    if new != text:
+        MANIFEST.write_text(new)
+        print("updated blender_manifest.toml: platforms and wheels from dependencies.BUNDLED")
+
+
+# --- build, validate, repository --------------------------------------------------------
+
+
+def _extension_cli(*args, tags=True) -> None:
+    tags_file = _bl_pkg_scripts() / "modules" / "_bpy_internal" / "extensions" / "tags.py"
+    _run(sys.executable, _blender_ext_path(), *args,
+         *([f"--valid-tags={tags_file}"] if tags else []))
+
+
+def zips() -> list[Path]:
+    return sorted(DIST.glob(f"texsynth-{version()}-*.zip"))
+
+
+def extension_zip(platform: str = "") -> Path:
+    """dist/'s zip for a Blender platform ('linux-x64', ...; default: this system's)."""
+    platform = platform or _blender_ext().platform_from_this_system()
+    return DIST / f"texsynth-{version()}-{platform.replace('-', '_')}.zip"
+
+
+def build_is_stale() -> bool:
+    """True when a zip or the listing is missing or older than a file that goes into a zip."""
+    sources = [MANIFEST, REPO / "__init__.py", REPO / "dependencies.py", REPO / "LICENSE",
+               *REPO.glob("operators/**/*.py"), *REPO.glob("texsynth/**/*.py")]
+    built = [extension_zip(platform) for platform in PLATFORMS] + [DIST / "index.json"]
+    if not all(path.exists() for path in built):
+        return True
+    return min(p.stat().st_mtime for p in built) < max(p.stat().st_mtime for p in sources)
 
 
 def validate() -> None:
     """Validate the manifest in the source tree and every built zip."""
     _extension_cli("validate", REPO)
-    for path in sorted(DIST.glob("texsynth-*.zip")):
+    for path in zips():
         _extension_cli("validate", path)
 
 
+def repo() -> None:
+    """dist/index.json (and index.html) listing the zips, by Blender's server-generate.
+
+    Upload dist/ as it is to any static web host; in Blender, add a remote repository with
+    the URL of index.json to install TexSynth from it and get its updates.
+    """
+    _extension_cli("server-generate", "--repo-dir", DIST, "--html", tags=False)
+
+
 def build() -> None:
-    """Build and validate one extension zip per platform in dist/, and print their paths."""
+    """Build one extension zip per platform in dist/, validate them, list them in index.json."""
     download_wheels()
     DIST.mkdir(exist_ok=True)
     for old in DIST.glob("texsynth-*.zip"):
         old.unlink()
     _extension_cli("build", "--source-dir", REPO, "--output-dir", DIST, "--split-platforms")
     validate()
-    print("\nbuilt:", *sorted(DIST.glob("texsynth-*.zip")), sep="\n  ")
+    repo()
+    print(f"\nbuilt (budget {ZIP_BUDGET / 2**20:.0f} MiB each):")
+    for path in zips():
+        size = path.stat().st_size
+        print(f"  {path}  {size / 2**20:6.1f} MiB{'  OVER BUDGET' if size > ZIP_BUDGET else ''}")
+
+
+# --- demo and tests ---------------------------------------------------------------------
 
 
 def demo() -> None:
@@ -114,13 +299,70 @@ def demo() -> None:
 
 
 def test() -> None:
-    """Build (the tests install the zip), then ruff and pytest."""
+    """What CI runs: build (the tests install the zip), ruff, pytest in Blender 5.0, then the
+    older Blenders and Python 3.13 of test-compat (about 4 minutes more on a fresh clone, most
+    of it creating their venvs; measured, CI stays well under 15 minutes)."""
     build()
     _run(sys.executable, "-m", "ruff", "check", REPO)
     _run(sys.executable, "-m", "pytest", "-q", REPO / "tests", cwd=REPO)
+    compat()
 
 
-COMMANDS = {"setup": setup, "build": build, "validate": validate, "demo": demo, "test": test}
+def _find_python(version: str) -> str | None:
+    """A working ``pythonX.Y`` on PATH or installed by pyenv, or None."""
+    candidates = [shutil.which(f"python{version}"),
+                  *map(str, sorted(Path.home().glob(f".pyenv/versions/{version}.*/bin/python")))]
+    for candidate in filter(None, candidates):
+        if subprocess.run([candidate, "-c", ""], capture_output=True).returncode == 0:
+            return candidate
+    return None
+
+
+def test_compat() -> None:
+    """Build, then the Blender tests in each older Blender of COMPAT_BPY, and the core tests on
+    Blender 5.1's Python 3.13 with the bundled cp313 wheels and numpy 2 (no bpy 5.1 on PyPI).
+
+    Each runs in its own .venv-*: the Blender ones hold only bpy, the numpy its Blender bundles
+    and pytest, so scipy and OpenEXR come from the wheels the installed zip bundles (the
+    Blender tests install it before they import anything else).
+    """
+    build()
+    compat()
+
+
+def compat() -> None:
+    """The test-compat runs, on the zips already in dist/."""
+    for bpy_version, numpy_version in COMPAT_BPY.items():
+        python = _ensure_venv(REPO / f".venv-bpy-{bpy_version}",
+                              [f"bpy=={bpy_version}", f"numpy=={numpy_version}", "pytest"])
+        print(f"\n--- Blender {bpy_version} (numpy {numpy_version}) ---", flush=True)
+        _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", REPO / "tests" / "blender",
+             cwd=REPO)
+    python_313 = _find_python(NEXT_PYTHON)
+    if python_313 is None:
+        print(f"\n--- skipped: no Python {NEXT_PYTHON} for the core tests on Blender 5.1's stack")
+        return
+    python = _ensure_venv(REPO / f".venv-py{NEXT_PYTHON}",
+                          [f"numpy=={NEXT_NUMPY}", "pytest", *_wheels_here(NEXT_PYTHON)],
+                          base=python_313)
+    print(f"\n--- core on Python {NEXT_PYTHON}, numpy {NEXT_NUMPY}, bundled wheels ---",
+          flush=True)
+    tests = REPO / "tests"
+    _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests, "--ignore",
+         tests / "blender", "--ignore", tests / "test_distribution.py", cwd=REPO)
+
+
+def _wheels_here(python: str) -> list[str]:
+    """The bundled wheels for ``python`` on this system (absolute paths)."""
+    blender_ext = _blender_ext()
+    here = blender_ext.platform_from_this_system()
+    keys = {path: wheel_key(Path(path).name, blender_ext) for path in _manifest_wheels()}
+    return [str(REPO / path) for path, (_, _, py, platforms) in keys.items()
+            if py == python and here in platforms]
+
+
+COMMANDS = {"setup": setup, "build": build, "validate": validate, "repo": repo, "demo": demo,
+            "test": test, "test-compat": test_compat}
 
 
 def main() -> None:

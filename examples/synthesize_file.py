@@ -17,6 +17,7 @@ the running Python, which ``python3 addon_build.py setup`` provides for the bpy 
 """
 
 import argparse
+import atexit
 import importlib
 import importlib.util
 import sys
@@ -38,6 +39,7 @@ def ensure_addon():
         sys.modules[spec.name] = module
         spec.loader.exec_module(module)
         module.register()
+        atexit.register(module.unregister)  # else the bpy 4.2 module crashes on exit
     operator_module = bpy.types.TEXSYNTH_OT_synthesize.__module__
     return importlib.import_module(operator_module.rsplit(".operators", 1)[0])
 

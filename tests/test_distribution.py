@@ -1,0 +1,127 @@
+"""The built zips and repository listing, as a user or a hosting team gets them (no bpy).
+
+The zips are built first when missing or older than the sources (``addon_build.py build``).
+"""
+
+import hashlib
+import importlib.util
+import json
+import re
+import subprocess
+import sys
+import tomllib
+import zipfile
+
+import pytest
+
+import addon_build
+
+ALLOWED = re.compile(r"blender_manifest\.toml|LICENSE|__init__\.py|dependencies\.py"
+                     r"|operators/[a-z_]+\.py|texsynth/([a-z_]+/)*[a-z_]+\.py|wheels/[^/]+\.whl")
+
+
+@pytest.fixture(scope="module")
+def zips():
+    """Blender platform -> (zip path, the zip's manifest with [build.generated] applied)."""
+    if addon_build.build_is_stale():
+        subprocess.run([sys.executable, str(addon_build.REPO / "addon_build.py"), "build"],
+                       check=True)
+    found = {}
+    for platform in addon_build.PLATFORMS:
+        path = addon_build.extension_zip(platform)
+        with zipfile.ZipFile(path) as archive:
+            manifest = tomllib.loads(archive.read("blender_manifest.toml").decode())
+        manifest.update(manifest["build"].pop("generated"))
+        found[platform] = path, manifest
+    return found
+
+
+def test_every_zip_and_the_source_pass_blenders_validator(zips):
+    run = subprocess.run([sys.executable, str(addon_build.REPO / "addon_build.py"), "validate"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.count("Success parsing TOML") == 1 + len(addon_build.PLATFORMS)
+
+
+def test_each_zip_holds_the_wheels_of_its_platform_for_both_pythons_unmodified(zips):
+    bundled = addon_build.bundled()
+    for platform, (path, manifest) in zips.items():
+        assert manifest["platforms"] == [platform]
+        with zipfile.ZipFile(path) as archive:
+            in_zip = sorted(n for n in archive.namelist() if n.startswith("wheels/"))
+            assert sorted(w.removeprefix("./") for w in manifest["wheels"]) == in_zip
+            for name in in_zip:
+                cached = (addon_build.REPO / name).read_bytes()
+                assert hashlib.sha256(archive.read(name)).digest() == \
+                    hashlib.sha256(cached).digest(), name
+        keys = [addon_build.wheel_key(name.removeprefix("wheels/")) for name in in_zip]
+        assert all(platform in platforms for *_, platforms in keys), (platform, in_zip)
+        assert sorted((package, release, python) for package, release, python, _ in keys) == \
+            sorted((package.lower(), release, python)
+                   for package, releases in bundled.items()
+                   for python, release in releases.items()), platform
+        assert {python for _, _, python, _ in keys} == {"3.11", "3.13"}
+        assert not any(name.startswith("wheels/numpy") for name in in_zip)
+
+
+def test_the_zips_hold_only_the_extension(zips):
+    for path, _ in zips.values():
+        with zipfile.ZipFile(path) as archive:
+            names = archive.namelist()
+        strays = [n for n in names if not ALLOWED.fullmatch(n)]
+        assert not strays, f"{path.name} holds files users do not need: {strays}"
+        assert {"__init__.py", "dependencies.py", "LICENSE", "operators/__init__.py",
+                "texsynth/__init__.py"} <= set(names)
+
+
+def test_every_zip_is_within_the_size_budget(zips):
+    sizes = {path.name: path.stat().st_size for path, _ in zips.values()}
+    over = {name: f"{size / 2**20:.1f} MiB" for name, size in sizes.items()
+            if size > addon_build.ZIP_BUDGET}
+    assert not over, f"over {addon_build.ZIP_BUDGET >> 20} MiB: {over}"
+
+
+def test_the_repository_listing_offers_every_zip_for_its_platform(zips):
+    listing = json.loads((addon_build.DIST / "index.json").read_text())
+    assert listing["version"] == "v1" and listing["blocklist"] == []
+    entries = {entry["platforms"][0]: entry for entry in listing["data"]}
+    assert sorted(entries) == sorted(zips)
+    for platform, (path, manifest) in zips.items():
+        entry = entries[platform]
+        assert entry["archive_url"] == f"./{path.name}"
+        assert entry["archive_size"] == path.stat().st_size
+        assert entry["archive_hash"] == "sha256:" + hashlib.sha256(path.read_bytes()).hexdigest()
+        assert entry["python_versions"] == ["3.11", "3.13"]
+        for key in ("id", "version", "blender_version_min", "license", "permissions"):
+            assert entry[key] == manifest[key], key
+    assert (addon_build.DIST / "index.html").is_file()
+
+
+def test_the_manifest_is_complete():
+    manifest = tomllib.loads(addon_build.MANIFEST.read_text())
+    assert manifest["blender_version_min"] == "4.2.0"
+    assert manifest["license"] == ["SPDX:GPL-3.0-or-later"]
+    assert list(manifest["permissions"]) == ["files"]
+    for key in ("tagline", "website", "copyright", "tags", "maintainer"):
+        assert manifest[key], key
+
+
+def _blender_42_dedup():
+    """The rule by which Blender picks one wheel per package name, unchanged since 4.2.0 (where
+    the wheels are not first filtered by Python tag); read from the bpy 5.0 wheel."""
+    scripts = addon_build._bl_pkg_scripts()
+    spec = importlib.util.spec_from_file_location(
+        "wheel_manager", scripts / "modules" / "_bpy_internal" / "extensions" /
+        "wheel_manager.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.wheel_list_deduplicate_as_skip_set
+
+
+def test_blender_4_2_0_which_ignores_python_tags_still_picks_the_python_3_11_wheels(zips):
+    skip = _blender_42_dedup()
+    for platform, (_, manifest) in zips.items():
+        wheels = manifest["wheels"]
+        kept = [w for w in wheels if w not in skip([("texsynth", wheels)])]
+        assert sorted(re.search(r"-(cp3\d+)-", w)[1] for w in kept) == ["cp311", "cp311"], \
+            (platform, kept)
