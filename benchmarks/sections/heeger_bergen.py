@@ -1,0 +1,74 @@
+"""Issue 2's figures: texsynth's Heeger-Bergen against the textbook build in the same run."""
+
+from __future__ import annotations
+
+import statistics
+
+import numpy as np
+
+import texsynth
+from texsynth import metrics
+
+from ..peers import peers, textbook_hb
+
+ORDER = 20
+TITLE = "Heeger-Bergen: texsynth against the textbook build"
+SEED = 0
+PARAMS = {"scales": 4, "orientations": 4, "iterations": 15}
+
+
+def _exemplars(ctx, side: int, count: int):
+    """The first ``count`` textures (manifest order) at least ``side`` a side, cropped to it."""
+    chosen = [t for t in ctx.textures if min(t.image.shape[:2]) >= side][:count]
+    return chosen or ctx.textures[:1]
+
+
+def run(ctx) -> str:
+    side, out_side = (128, 256) if ctx.quick else (256, 512)
+    repeats = 1 if ctx.quick else 3
+    missing = next(p.missing for p in peers() if p.name == "textbook_hb")
+    lines = [
+        f"{side} x {side} RGB exemplar (central crop) to {out_side} x {out_side}, "
+        f"{PARAMS['scales']} scales x {PARAMS['orientations']} orientations x "
+        f"{PARAMS['iterations']} iterations, seed {SEED}; median of {repeats} runs each. The "
+        "textbook build is paper 000's Algorithm 11.4 on pyrtools' SteerablePyramidFreq with "
+        "sort-based matching (benchmarks/peers.py). Subband distance: texsynth.metrics, lower is "
+        "closer to the exemplar.",
+        "",
+        "| texture | texsynth s | textbook s | speed-up | texsynth peak MiB | textbook peak MiB "
+        "| subband dist. texsynth | subband dist. textbook |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    speedups = []
+    for texture in _exemplars(ctx, side, 1 if ctx.quick else 3):
+        h, w = texture.image.shape[:2]
+        ex = np.ascontiguousarray(texture.image[(h - side) // 2:(h - side) // 2 + side,
+                                                (w - side) // 2:(w - side) // 2 + side])
+        ours = ctx.measure(lambda ex=ex: texsynth.synthesize(ex, out_side, out_side, seed=SEED,
+                                                             **PARAMS), repeats)
+        d_ours = metrics.subband_distance(ex, ours.result)
+        if missing:
+            lines.append(f"| {texture.short} | {ours.median_s:.2f} | skipped | | "
+                         f"{ours.peak_mib:.0f} | | {d_ours:.3f} | |")
+            continue
+        book = ctx.measure(lambda ex=ex: textbook_hb(ex, out_side, out_side, SEED), repeats)
+        speedups.append(book.median_s / ours.median_s)
+        lines.append(
+            f"| {texture.short} | {ours.median_s:.2f} [{ours.min_s:.2f}-{ours.max_s:.2f}] "
+            f"| {book.median_s:.2f} [{book.min_s:.2f}-{book.max_s:.2f}] | {speedups[-1]:.1f}x "
+            f"| {ours.peak_mib:.0f} | {book.peak_mib:.0f} | {d_ours:.3f} "
+            f"| {metrics.subband_distance(ex, book.result):.3f} |")
+    if missing:
+        lines += ["", f"Textbook build skipped: {missing}."]
+    elif speedups:
+        lines += ["", f"Median speed-up: **{statistics.median(speedups):.1f}x**."]
+
+    big = 1024 if ctx.quick else 4096
+    texture = _exemplars(ctx, side, 1)[0]
+    ex = np.ascontiguousarray(texture.image[:side, :side])
+    m = ctx.measure(lambda: texsynth.synthesize(ex, big, big, seed=SEED, **PARAMS), repeats=1)
+    tiles = metrics.seam_ratio(m.result)
+    lines += ["", f"A {big} x {big} RGB output from {texture.short} with the same parameters: "
+              f"{m.median_s:.1f} s, peak traced memory {m.peak_mib:.0f} MiB, seam ratio "
+              f"{tiles:.2f}."]
+    return "\n".join(lines)

@@ -1,0 +1,73 @@
+"""Metrics with known answers: what the benchmark's figures mean rests on these."""
+
+import numpy as np
+import pytest
+from scipy.ndimage import gaussian_filter
+
+from texsynth import metrics
+
+from _images import ramp_photo, smooth_noise
+
+
+def stripes(shape, period=8.0, angle=0.3):
+    yy, xx = np.mgrid[: shape[0], : shape[1]]
+    return (0.5 + 0.5 * np.sin(2 * np.pi * (xx * np.cos(angle) + yy * np.sin(angle)) / period)
+            ).astype(np.float32)
+
+
+def test_seam_ratio_is_one_for_periodic_and_large_for_a_photo():
+    assert metrics.seam_ratio(smooth_noise((64, 64))) == pytest.approx(1.0, abs=0.2)
+    assert metrics.seam_ratio(ramp_photo((64, 64))) > 3
+    with pytest.raises(ValueError, match="3 x 3"):
+        metrics.seam_ratio(np.zeros((2, 9)))
+
+
+def test_a_shifted_copy_is_a_copy():
+    image = smooth_noise((64, 64), seed=1)
+    shifted = np.roll(image, (11, 23), axis=(0, 1))
+    result = metrics.patch_distance(image, shifted)
+    assert result["median"] < 1e-6
+    assert result["copy_share"] > 0.7  # (57/64)^2 of the patches do not cross a seam
+
+
+def test_fresh_noise_is_not_a_copy():
+    a = smooth_noise((64, 64), seed=1)
+    b = smooth_noise((64, 64), seed=2)
+    result = metrics.patch_distance(a, b)
+    assert result["copy_share"] == 0.0
+    assert result["median"] > 0.05
+
+
+def test_subband_distance_orders_same_texture_before_other_texture():
+    a = smooth_noise((96, 96), seed=1, sigma=2.0)
+    b = smooth_noise((96, 96), seed=2, sigma=2.0)
+    coarse = smooth_noise((96, 96), seed=3, sigma=6.0)
+    same = metrics.subband_distance(a, b)
+    other = metrics.subband_distance(a, coarse)
+    assert same < 0.2 and other > 3 * same
+
+
+def test_structure_distance_tells_lines_from_blobs():
+    rng = np.random.default_rng(0)
+    blobs = gaussian_filter(rng.standard_normal((96, 96)), 2, mode="wrap")
+    other_blobs = gaussian_filter(rng.standard_normal((96, 96)), 2, mode="wrap")
+    lines = stripes((96, 96)) + 0.05 * blobs
+    assert metrics.structure_distance(blobs, other_blobs) < 0.1
+    assert metrics.structure_distance(blobs, lines) > 0.5
+
+
+def test_self_distance_reports_the_natural_variation():
+    image = smooth_noise((64, 128), seed=4)
+    result = metrics.self_distance(image)
+    assert set(result) == {"subband_distance", "patch_distance", "copy_share", "structure_distance"}
+    assert result["copy_share"] == 0.0
+    assert result["structure_distance"] < 0.15
+
+
+def test_quality_bundles_every_measure():
+    image = smooth_noise((48, 48), seed=5)
+    q = metrics.quality(image, np.roll(image, 5, axis=1))
+    assert q["seam_ratio"] == pytest.approx(1.0, abs=0.2)
+    assert q["copy_share"] > 0.6
+    assert set(q) == {"seam_ratio", "subband_distance", "patch_distance", "copy_share",
+                      "structure_distance"}
