@@ -26,8 +26,10 @@ def install_peers() -> None:
     subprocess.run([sys.executable, "-m", "pip", "install", "-q", "-r", str(REQUIREMENTS)],
                    check=False)
     if not any((Path(p) / "gmic").exists() for p in os.environ.get("PATH", "").split(":")):
-        subprocess.run(["apt-get", "install", "-y", "-q", "gmic"], check=False,
-                       capture_output=True)
+        apt = ["apt-get", "install", "-y", "-q", "--no-install-recommends", "gmic"]
+        if subprocess.run(apt, check=False, capture_output=True).returncode:
+            subprocess.run(["apt-get", "update", "-q"], check=False, capture_output=True)
+            subprocess.run(apt, check=False, capture_output=True)
 
 
 def machine() -> str:
@@ -84,9 +86,14 @@ def main() -> None:
         f"- Versions: {versions()}.",
         f"- Inputs: {source}{'; quick mode: a subset' if args.quick else ''}.",
         "- Times are wall-clock medians (range in brackets) of repeated calls in this process; "
-        "peak memory is tracemalloc's peak (numpy buffers included) over the call.",
+        "peak memory is tracemalloc's peak (numpy buffers included) over the call, and where "
+        "said the growth of the process's resident high-water mark (which sees C code).",
+        f"- Load average when the run started: {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
+        "cores.",
         "",
     ]
+    out = DOCS / ("BENCHMARKS.md" if args.only is None else "BENCHMARKS.partial.md")
+    run_start = time.perf_counter()
     for module in sections():
         if args.only is not None and module.__name__.rsplit(".", 1)[1] not in args.only:
             continue
@@ -95,8 +102,9 @@ def main() -> None:
         body = module.run(ctx)
         parts += [f"## {module.TITLE}", "", body.strip(), "",
                   f"*Section time: {time.perf_counter() - start:.0f} s.*", ""]
-    out = DOCS / ("BENCHMARKS.md" if args.only is None else "BENCHMARKS.partial.md")
-    out.write_text("\n".join(parts))
+        out.write_text("\n".join(parts + ["*(run in progress)*", ""]))  # kept if interrupted
+    parts.append(f"*Whole run: {(time.perf_counter() - run_start) / 60:.1f} min.*")
+    out.write_text("\n".join(parts) + "\n")
     print(f"wrote {out}")
 
 

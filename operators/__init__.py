@@ -4,9 +4,9 @@ Each module keeps a ``classes`` tuple and its own ``register``/``unregister``; t
 delegates, in order (settings before the operator and panel that read them).
 """
 
-from . import panel, properties, synthesize
+from . import composite, material, panel, positions, properties, synthesize
 
-_modules = (properties, synthesize, panel)
+_modules = (properties, synthesize, panel, positions, material, composite)
 
 
 def register():

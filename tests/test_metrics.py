@@ -30,6 +30,23 @@ def test_a_shifted_copy_is_a_copy():
     assert result["copy_share"] > 0.7  # (57/64)^2 of the patches do not cross a seam
 
 
+def test_every_patch_of_a_wrapped_shift_is_found_in_the_tiled_exemplar():
+    tile = smooth_noise((40, 40), seed=3)
+    exemplar = np.tile(tile, (2, 2, 1))  # holds every wrapped patch of the tile
+    result = metrics.patch_distance(exemplar, np.roll(tile, (7, 13), axis=(0, 1)))
+    assert result["copy_share"] == 1.0
+    assert result["median"] < 1e-6
+
+
+def test_patch_distance_grows_with_the_departure_from_the_exemplar():
+    exemplar = smooth_noise((64, 64), seed=1)
+    rng = np.random.default_rng(0)
+    slight = np.clip(exemplar + 0.01 * rng.standard_normal(exemplar.shape), 0, 1)
+    strong = np.clip(exemplar + 0.1 * rng.standard_normal(exemplar.shape), 0, 1)
+    d = [metrics.patch_distance(exemplar, x)["median"] for x in (exemplar, slight, strong)]
+    assert d[0] < 1e-6 < d[1] < 0.1 < d[2]
+
+
 def test_fresh_noise_is_not_a_copy():
     a = smooth_noise((64, 64), seed=1)
     b = smooth_noise((64, 64), seed=2)

@@ -16,11 +16,21 @@ from collections.abc import Callable
 
 import numpy as np
 
+from . import composite, cooccurrence, segmentation
+from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get, methods
+from .stack import synthesize_stack
 
 __all__ = [
     "synthesize",
+    "synthesize_positions",
+    "apply_positions",
+    "positions_image",
+    "synthesize_stack",
+    "cooccurrence",
+    "composite",
+    "segmentation",
     "methods",
     "get_method",
     "validate_exemplar",
@@ -130,7 +140,35 @@ def synthesize(
     Alpha: a constant alpha channel (an opaque photo) is passed through unchanged; a varying one
     is synthesized together with the colour as a fourth channel.
     """
+    return _run(exemplar, width, height, method, seed, progress, params, False)[0]
+
+
+def synthesize_positions(
+    exemplar,
+    width: int,
+    height: int,
+    method: str = "multiscale_mrf",
+    seed: int = 0,
+    progress: Callable[[float, str], object] | None = None,
+    **params,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`synthesize` for methods that copy exemplar pixels, with their position map.
+
+    Returns ``(image, positions)``: the same image :func:`synthesize` gives, and int32
+    (height, width, 2) (row, col) coordinates into the exemplar, so that
+    ``apply_positions(positions, exemplar)`` is that image (after the same uint scaling) and
+    ``apply_positions(positions, normal_map)`` makes another map of the material follow.
+    Raises ``ValueError`` for methods without position maps (``get_method(name).positions``).
+    """
+    return _run(exemplar, width, height, method, seed, progress, params, True)
+
+
+def _run(exemplar, width, height, method, seed, progress, params, want_positions):
     m = get(method)
+    if want_positions and not m.positions:
+        raise ValueError(f"method '{m.name}' does not copy exemplar pixels, so it has no "
+                         "position map; use one of: "
+                         + ", ".join(x.name for x in methods() if x.positions))
     values = m.resolve(params)
     a = validate_exemplar(exemplar, m.min_exemplar)
     width, height = _validate_size(width, height)
@@ -147,6 +185,10 @@ def synthesize(
     report(0.0, f"{m.label}: starting")
     rng = np.random.default_rng(int(seed))
     out = m.function(a, width, height, rng, report, **values)
+    positions = None
+    if m.positions:
+        out, positions = out
+        positions = np.ascontiguousarray(positions, dtype=np.int32)
     out = np.ascontiguousarray(out, dtype=np.float32)
     if out.shape != (height, width, a.shape[2]):
         raise AssertionError(f"{m.name} returned {out.shape}, "
@@ -154,4 +196,4 @@ def synthesize(
     if constant_alpha is not None:
         out = np.concatenate([out, np.full((height, width, 1), constant_alpha, np.float32)], axis=2)
     report(1.0, f"{m.label}: done")
-    return out
+    return out, positions

@@ -20,8 +20,8 @@ All work on luminance (Rec. 709 weights) except ``patch_distance``, which compar
 from __future__ import annotations
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import gaussian_filter
-from scipy.spatial import cKDTree
 
 from .periodic import periodic_component
 from .pyramid import SteerablePyramid, max_scales
@@ -86,27 +86,17 @@ def subband_distance(exemplar: np.ndarray, output: np.ndarray, scales: int = 4,
     return float(np.mean([_wasserstein_1d(e, o) / max(float(e.std()), 1e-8) for e, o in pairs]))
 
 
-def _patches(image: np.ndarray, size: int, rows, cols, wrap: bool) -> np.ndarray:
-    """(N, size*size*C) patches with top-left corners (rows, cols)."""
-    h, w, c = image.shape
-    dy = np.arange(size)
-    r = rows[:, None] + dy[None, :]
-    q = cols[:, None] + dy[None, :]
-    if wrap:
-        r, q = r % h, q % w
-    return image[r[:, :, None], q[:, None, :]].reshape(len(rows), size * size * c)
-
-
 def patch_distance(exemplar: np.ndarray, output: np.ndarray, size: int = 8,
-                   samples: int = 2000, seed: int = 0) -> dict:
+                   samples: int = 1000, seed: int = 0) -> dict:
     """Nearest-exemplar-patch distance of sampled output patches.
 
     Returns ``{"median": m, "copy_share": s}``: ``m`` is the median over sampled output patches of
-    min over exemplar patches of ||p - q||^2 / ||p - mean(p)||^2; ``s`` the share of patches under
-    :data:`COPY_THRESHOLD` (verbatim copies). Output patches may wrap (outputs are periodic);
-    exemplar patches do not. Search: the 16 nearest candidates in the exemplar patches' 24 leading
-    principal components (a k-d tree), re-ranked by the full distance; a verbatim copy is always
-    found, its projected distance being 0.
+    min over exemplar patches of ||p - q||^2 / ||p - mean(p)||^2 (all channels; the mean is taken
+    per channel); ``s`` the share of patches under :data:`COPY_THRESHOLD` (verbatim copies).
+    Output patches may wrap (outputs are periodic); exemplar patches do not. The search is exact
+    and brute force: ||q||^2 - 2 p.q as one float32 matrix product per block of samples against
+    every exemplar patch (about 2 s for 1000 samples against a 256 x 256 RGB exemplar here),
+    then the exact distance of the winner.
     """
     ex = np.asarray(exemplar, np.float32)
     out = np.asarray(output, np.float32)
@@ -114,26 +104,27 @@ def patch_distance(exemplar: np.ndarray, output: np.ndarray, size: int = 8,
     out = out[:, :, None] if out.ndim == 2 else out
     if ex.shape[2] != out.shape[2]:
         raise ValueError(f"exemplar has {ex.shape[2]} channels, output {out.shape[2]}")
-    h, w = ex.shape[:2]
-    if min(h, w) < size:
+    if min(ex.shape[:2]) < size:
         raise ValueError(f"exemplar smaller than the {size} x {size} patch")
-    rows, cols = np.meshgrid(np.arange(h - size + 1), np.arange(w - size + 1), indexing="ij")
-    bank = _patches(ex, size, rows.ravel(), cols.ravel(), wrap=False)
+    bank = np.ascontiguousarray(
+        sliding_window_view(ex, (size, size), axis=(0, 1)).reshape(-1, ex.shape[2] * size * size))
     rng = np.random.default_rng(seed)
     n = min(samples, out.shape[0] * out.shape[1])
-    probe = _patches(out, size, rng.integers(0, out.shape[0], n), rng.integers(0, out.shape[1], n),
-                     wrap=True)
+    rows = rng.integers(0, out.shape[0], n)[:, None] + np.arange(size)
+    cols = rng.integers(0, out.shape[1], n)[:, None] + np.arange(size)
+    window = out[(rows % out.shape[0])[:, :, None], (cols % out.shape[1])[:, None, :]]
+    probe = np.ascontiguousarray(window.transpose(0, 3, 1, 2).reshape(n, -1))  # as the bank
 
-    mean = bank.mean(axis=0)
-    _, _, vt = np.linalg.svd(bank[rng.choice(len(bank), min(len(bank), 4000), replace=False)]
-                             - mean, full_matrices=False)
-    basis = vt[:24].T
-    tree = cKDTree((bank - mean) @ basis)
-    k = min(16, len(bank))
-    _, candidates = tree.query((probe - mean) @ basis, k=k)
-    candidates = candidates.reshape(n, k)
-    full = ((bank[candidates] - probe[:, None, :]) ** 2).sum(axis=2).min(axis=1)
-    energy = ((probe - probe.mean(axis=1, keepdims=True)) ** 2).sum(axis=1)
+    bank_sq = np.einsum("ij,ij->i", bank, bank)
+    nearest = np.empty(n, np.int64)
+    for start in range(0, n, 256):
+        scores = probe[start:start + 256] @ bank.T
+        scores *= -2.0
+        scores += bank_sq
+        nearest[start:start + 256] = scores.argmin(axis=1)
+    full = ((bank[nearest] - probe) ** 2).sum(axis=1)
+    per_channel = probe.reshape(n, ex.shape[2], -1)
+    energy = ((per_channel - per_channel.mean(axis=2, keepdims=True)) ** 2).sum(axis=(1, 2))
     ratio = full / np.maximum(energy, 1e-8)
     return {"median": float(np.median(ratio)), "copy_share": float((ratio < COPY_THRESHOLD).mean())}
 

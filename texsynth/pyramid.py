@@ -173,3 +173,73 @@ class SteerablePyramid:
         high = sfft.rfft2(coeffs.highpass.astype(np.float32, copy=False))
         spectrum = low * self.lo0 + high * self.hi0
         return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+
+
+# --- Laplacian pyramid ------------------------------------------------------------------------
+
+
+class LaplacianPyramid:
+    """Burt and Adelson's Laplacian pyramid on the discrete Fourier grid (paper 000, 11.2.1).
+
+    ``G_0`` is the image; ``G_{j+1}`` is ``G_j`` low-passed by the steerable pyramid's radial
+    mask ``L_j`` (zero beyond half of level j's band) and decimated by cropping its spectrum, and
+    ``P_j = G_j - S_up(G_{j+1}) = (1 - L_j) G_j`` (eq. 11.2.2). Levels are ``[P_0 .. P_{S-1},
+    G_S]`` with the shapes, and the sample positions (sample i of level j at 2^j i), of
+    :class:`SteerablePyramid`'s levels; filtering is circular, so the pyramid is periodic, and
+    synthesis (Algorithm 11.2: upsample, add) reconstructs exactly for any size.
+
+    Deviations: ``S_up`` is band-limited (zero-padded spectrum) rather than pixel replication,
+    and the smoothing is the raised-cosine mask, not a Gaussian.
+    """
+
+    def __init__(self, shape: tuple[int, int], scales: int = 4):
+        if not 0 <= scales <= max_scales(shape):
+            raise ValueError(
+                f"an image of {shape[1]} x {shape[0]} supports at most {max_scales(shape)} scales,"
+                f" {scales} were asked for"
+            )
+        self.shape = tuple(shape)
+        self.scales = scales
+        self.level_shapes = [self.shape]
+        self.low_masks: list[np.ndarray] = []
+        self.crop_rows: list[np.ndarray] = []
+        for j in range(scales):
+            parent = self.level_shapes[-1]
+            radius, _ = _grid(parent, self.shape)
+            self.low_masks.append(_radial_masks(radius, 2.0 ** -(j + 1))[1].astype(np.float32))
+            child = ((parent[0] + 1) // 2, (parent[1] + 1) // 2)
+            ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
+            self.crop_rows.append(np.where(ky >= 0, ky, parent[0] + ky))
+            self.level_shapes.append(child)
+
+    def _ratio(self, j: int) -> np.float32:
+        parent, child = self.level_shapes[j], self.level_shapes[j + 1]
+        return np.float32(child[0] * child[1] / (parent[0] * parent[1]))
+
+    def analyze(self, image: np.ndarray) -> list[np.ndarray]:
+        """``[P_0, .., P_{S-1}, G_S]`` of a 2-D float image of this pyramid's shape (float32)."""
+        image = np.asarray(image, dtype=np.float32)
+        if image.shape != self.shape:
+            raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
+        spectrum = sfft.rfft2(image)
+        levels = []
+        for j in range(self.scales):
+            low = spectrum * self.low_masks[j]
+            levels.append(sfft.irfft2(spectrum - low, s=self.level_shapes[j]))
+            child = self.level_shapes[j + 1]
+            spectrum = low[self.crop_rows[j], : child[1] // 2 + 1] * self._ratio(j)
+        levels.append(sfft.irfft2(spectrum, s=self.level_shapes[self.scales]))
+        return levels
+
+    def synthesize(self, levels: list[np.ndarray]) -> np.ndarray:
+        """Algorithm 11.2: from the coarsest level, upsample and add each finer level."""
+        spectrum = sfft.rfft2(np.asarray(levels[-1], dtype=np.float32))
+        for j in reversed(range(self.scales)):
+            parent, child = self.level_shapes[j], self.level_shapes[j + 1]
+            up = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
+            up[self.crop_rows[j], : child[1] // 2 + 1] = spectrum / self._ratio(j)
+            spectrum = up + sfft.rfft2(np.asarray(levels[j], dtype=np.float32))
+        return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+
+
+__all__ += ["LaplacianPyramid"]

@@ -87,6 +87,9 @@ class Method:
     )
     reference: str = ""
     extras: dict = field(default_factory=dict)
+    #: The function returns ``(image, positions)``: int32 (height, width, 2) (row, col) into the
+    #: exemplar, the pixel each output pixel was copied from (see ``texsynth.apply_positions``).
+    positions: bool = False
 
     def param(self, name: str) -> Param:
         for p in self.params:

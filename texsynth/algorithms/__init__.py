@@ -1,3 +1,4 @@
+# ruff: noqa: I001  (registration order is panel order: composite last)
 """One module per algorithm; importing this package registers them all, in panel order.
 
 The folder is `algorithms`, not `methods`, because `texsynth.methods` is the public function
@@ -5,3 +6,8 @@ that lists them; a subpackage of that name would replace it on import.
 """
 
 from . import heeger_bergen  # noqa: F401
+from . import efros_leung  # noqa: F401
+from . import multiscale_mrf  # noqa: F401
+from . import de_bonet  # noqa: F401
+from . import cooccurrence  # noqa: F401
+from . import composite  # noqa: F401  (last: its fill choices list the methods before it)

@@ -1,0 +1,232 @@
+"""Composite textures in Blender (paper 004): label source, segmentation image, painted layout.
+
+* ``texsynth.segment``: the unsupervised segmentation of the active Image Texture node's image
+  as a new image, one flat palette colour per class, to inspect or to repaint and use as the
+  label image.
+* ``texsynth.synthesize_composite``: ``texsynth.composite.synthesize`` on the active Image
+  Texture node's image into a new image and node (as ``texsynth.synthesize`` does), plus a new
+  image of the output label map. The label source is automatic, or an image of the exemplar's
+  size with one flat colour per class (``label_image``); the output layout is synthesized, or a
+  painted image (``output_labels``) whose size is then the output's and whose colours are the
+  label image's (or the segmentation palette's).
+
+The image choices are kept per scene in ``scene.texsynth_composite``; the composite method's
+parameters, size, seed and output are the panel's (``scene.texsynth``). Everything is checked
+before anything is made; on error or cancel the file is unchanged.
+"""
+
+import bpy
+import numpy as np
+
+from .. import texsynth
+from ..texsynth import composite, segmentation
+from . import nodes, output, pixels, properties, source
+from .job import Job
+from .synthesize import TEXSYNTH_OT_synthesize
+
+METHOD = "composite"
+
+
+class CompositeJob(Job):
+    """A :class:`Job` running ``texsynth.composite.synthesize``; its result is a Composite."""
+
+    def run(self) -> None:
+        exemplar, width, height, (labels, layout), seed, params = self._call
+        try:
+            self.result = composite.synthesize(
+                exemplar, width, height, labels=labels, output_labels=layout, seed=seed,
+                progress=self._progress, **params)
+        except texsynth.Cancelled:
+            self.cancelled = True
+        except Exception as error:  # reported on the main thread, where bpy can be used
+            self.error = error
+
+
+def _image(name: str, what: str):
+    if name not in bpy.data.images:
+        raise ValueError(f"No image named '{name}' for the {what}")
+    return bpy.data.images[name]
+
+
+def _chosen(operator_value: str, pointer) -> str:
+    return operator_value or (pointer.name if pointer is not None else "")
+
+
+def _labels_image(name: str, labels: np.ndarray):
+    """A new packed image showing ``labels`` in the segmentation palette (sRGB bytes)."""
+    rgb = segmentation.label_colours(labels)
+    return output.create_image(rgb, pixels.Encoding(False, "sRGB", False),
+                               output.Target("PACK", "", False, name))
+
+
+class TEXSYNTH_OT_segment(bpy.types.Operator):
+    """Segment the active Image Texture node's image into subtextures, without being told how
+    many, and show the classes as a new image (flat colours, ready to repaint)"""
+
+    bl_idname = "texsynth.segment"
+    bl_label = "Show Segmentation"
+    bl_options = {"REGISTER", "UNDO"}
+
+    source_image: bpy.props.StringProperty(name="Source Image", options={"SKIP_SAVE"},
+                                           description="Image to segment; empty: the active "
+                                                       "Image Texture node's image")
+
+    def execute(self, context):
+        settings = context.scene.texsynth
+        method = texsynth.get_method(METHOD)
+        names = {p.name: n for p, n in properties.param_properties(method)}
+        try:
+            src = source.find_source(context, self.source_image)
+            image = bpy.data.images[src.image]
+            exemplar, _ = pixels.read_exemplar(image)
+            labels = segmentation.segment(
+                exemplar, contrast=getattr(settings, names["contrast"]),
+                texture=getattr(settings, names["texture_features"]), seed=settings.seed)
+        except ValueError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        stem = f"{bpy.path.clean_name(image.name.rsplit('.', 1)[0])}_labels"
+        made = _labels_image(stem, labels)
+        context.scene.texsynth_composite.label_image = made
+        self.report({"INFO"}, f"'{made.name}': {int(labels.max()) + 1} classes")
+        return {"FINISHED"}
+
+
+class TEXSYNTH_OT_synthesize_composite(bpy.types.Operator):
+    """Synthesize a composite texture (label map + subtextures) from the active Image Texture
+    node's image into a new image and node, and its label map into another new image"""
+
+    bl_idname = "texsynth.synthesize_composite"
+    bl_label = "Synthesize Composite"
+    bl_options = {"REGISTER", "UNDO"}
+
+    # The run, the worker thread, progress and Esc are texsynth.synthesize's own.
+    execute = TEXSYNTH_OT_synthesize.execute
+    invoke = TEXSYNTH_OT_synthesize.invoke
+    modal = TEXSYNTH_OT_synthesize.modal
+    cancel = TEXSYNTH_OT_synthesize.cancel
+    _end_ui = TEXSYNTH_OT_synthesize._end_ui
+    _fail = TEXSYNTH_OT_synthesize._fail
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        for name in ("label_image", "output_labels"):
+            layout.prop(self, name)
+        for _, name in properties.param_properties(texsynth.get_method(METHOD)):
+            layout.prop(self, name)
+        for name in ("width", "height", "seed", "output"):
+            layout.prop(self, name)
+
+    def _prepare(self, context):
+        """Check the input and copy the images out of Blender; raises ``ValueError``."""
+        properties.fill_unset(self, context.scene.texsynth)
+        chosen = context.scene.texsynth_composite
+        src = source.find_source(context, self.source_image)
+        image = bpy.data.images[src.image]
+        exemplar, encoding = pixels.read_exemplar(image)
+        labels = layout = None
+        label_name = _chosen(self.label_image, chosen.label_image)
+        if label_name:
+            labels, _ = pixels.read_exemplar(_image(label_name, "label image"))
+        layout_name = _chosen(self.output_labels, chosen.output_labels)
+        width, height = self.width, self.height
+        if layout_name:
+            layout, _ = pixels.read_exemplar(_image(layout_name, "output label map"))
+            height, width = layout.shape[:2]
+        target = output.plan(self.output, self.output_dir, image.name, METHOD, self.seed)
+        method = texsynth.get_method(METHOD)
+        params = {p.name: getattr(self, name) for p, name in properties.param_properties(method)}
+        job = CompositeJob(exemplar, width, height, (labels, layout), self.seed, params)
+        return job, (src, encoding, target)
+
+    def _finish(self, job, plan):
+        if job.cancelled:
+            self.report({"INFO"}, "Synthesis cancelled: nothing was created")
+            return {"CANCELLED"}
+        if job.error is not None:
+            return self._fail(job.error)
+        src, encoding, target = plan
+        result = job.result
+        try:
+            image = output.create_image(result.image, encoding, target)
+        except OSError as error:
+            return self._fail(error)
+        layout = _labels_image(f"{target.stem}_labels", result.output_labels)
+        tree, node = source.source_node(src)
+        if node is not None:
+            nodes.add_result_node(tree, node, image)
+        classes = int(result.labels.max()) + 1
+        self.report({"INFO"}, f"Synthesized '{image.name}' ({image.size[0]} x {image.size[1]}, "
+                              f"{classes} classes) and its label map '{layout.name}'")
+        return {"FINISHED"}
+
+
+class TEXSYNTH_PG_composite(bpy.types.PropertyGroup):
+    """The composite panel's image choices, per scene."""
+
+    label_image: bpy.props.PointerProperty(
+        type=bpy.types.Image, name="Labels",
+        description="Label image of the exemplar (same size, one flat colour per class); "
+                    "empty: automatic segmentation")
+    output_labels: bpy.props.PointerProperty(
+        type=bpy.types.Image, name="Layout",
+        description="Painted output label map in the label image's colours (its size is the "
+                    "output's); empty: synthesized from the label texture")
+
+
+class TEXSYNTH_PT_composite(bpy.types.Panel):
+    """Under the Texture Synthesis panel: label source, segmentation, layout and the button."""
+
+    bl_label = "Composite"
+    bl_space_type = "NODE_EDITOR"
+    bl_region_type = "UI"
+    bl_category = "TexSynth"
+    bl_parent_id = "TEXSYNTH_PT_synthesize"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return getattr(context.space_data, "tree_type", "") == "ShaderNodeTree"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        chosen = context.scene.texsynth_composite
+        layout.template_ID(chosen, "label_image", open="image.open")
+        layout.operator(TEXSYNTH_OT_segment.bl_idname, icon="IMAGE_RGB")
+        layout.template_ID(chosen, "output_labels", open="image.open")
+        settings = context.scene.texsynth
+        for _, name in properties.param_properties(texsynth.get_method(METHOD)):
+            layout.prop(settings, name)
+        layout.operator(TEXSYNTH_OT_synthesize_composite.bl_idname, icon="TEXTURE")
+
+
+classes = (TEXSYNTH_PG_composite, TEXSYNTH_OT_segment, TEXSYNTH_OT_synthesize_composite,
+           TEXSYNTH_PT_composite)
+
+
+def register():
+    annotations = properties.settings_annotations({"SKIP_SAVE"})
+    annotations.update(
+        source_image=bpy.props.StringProperty(
+            name="Source Image", options={"SKIP_SAVE"},
+            description="Image to synthesize from; empty: the active Image Texture node's"),
+        label_image=bpy.props.StringProperty(
+            name="Label Image", options={"SKIP_SAVE"},
+            description="Name of the exemplar's label image; empty: the panel's choice, "
+                        "else automatic segmentation"),
+        output_labels=bpy.props.StringProperty(
+            name="Output Labels", options={"SKIP_SAVE"},
+            description="Name of a painted output label map; empty: the panel's choice, "
+                        "else synthesized"))
+    TEXSYNTH_OT_synthesize_composite.__annotations__ = annotations
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.texsynth_composite = bpy.props.PointerProperty(type=TEXSYNTH_PG_composite)
+
+
+def unregister():
+    del bpy.types.Scene.texsynth_composite
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

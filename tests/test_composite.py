@@ -1,0 +1,134 @@
+"""Composite textures (paper 004, sections 1, 3, 4): segmentation, label texture, fill, errors."""
+
+import numpy as np
+import pytest
+
+import texsynth
+from texsynth import composite
+from texsynth.metrics import seam_ratio
+from texsynth.segmentation import label_colours, labels_from_image, segment
+
+FAST = {"max_cliques": 6, "sweeps": 8}
+RED, BLUE = np.array([0.8, 0.25, 0.2]), np.array([0.2, 0.35, 0.85])
+
+
+def _two_colours(shape=(48, 48), seed=0, noise=0.05):
+    """Blobs of blue noise on red noise, and their true labels."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    y, x = np.mgrid[0:h, 0:w]
+    truth = (((y % 24 - 12) ** 2 + (x % 24 - 10) ** 2) < 49).astype(np.int32)
+    truth |= (np.abs(y - 40) < 3) & (x < 30)
+    img = np.where(truth[:, :, None] == 1, BLUE, RED) + rng.normal(0, noise, (h, w, 3))
+    return np.clip(img, 0, 1).astype(np.float32), truth
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return _two_colours()
+
+
+def test_segmentation_finds_two_classes_without_being_told(scene):
+    img, truth = scene
+    labels = segment(img)
+    assert labels.max() == 1
+    agree = max((labels == truth).mean(), (labels != truth).mean())
+    assert agree > 0.97
+
+
+def test_segmentation_of_a_uniform_texture_gives_one_class():
+    rng = np.random.default_rng(1)
+    img = np.clip(0.5 + rng.normal(0, 0.03, (40, 40, 3)), 0, 1).astype(np.float32)
+    assert segment(img).max() == 0
+
+
+def test_painted_label_image_with_antialiased_edges():
+    _, truth = _two_colours()
+    painted = np.where(truth[:, :, None] == 1, [0.0, 1.0, 0.0], [1.0, 0.0, 1.0])
+    painted[10, 10] = [0.5, 0.5, 0.5]  # an anti-aliased pixel joins the nearest colour
+    labels = labels_from_image(painted)
+    assert labels.max() == 1
+    assert (labels == truth).all() or (labels != truth).all()
+
+
+def _regions_keep_their_colours(image, out_labels):
+    red_side = image[:, :, 0] > image[:, :, 2]
+    return (red_side == (out_labels == 0)).mean()
+
+
+@pytest.mark.parametrize("fill", ["cooccurrence", "heeger_bergen"])
+def test_each_subtexture_fills_only_its_own_regions(scene, fill):
+    img, truth = scene
+    layout = np.zeros((40, 56), np.int32)
+    layout[8:30, 5:25] = 1
+    layout[:, 40:50] = 1
+    params = {"fill_params": {"iterations": 3}} if fill != "cooccurrence" else {}
+    if fill != "cooccurrence":  # a class exemplar must hold a square of MIN_SQUARE pixels
+        truth = np.zeros((64, 64), np.int32)
+        truth[:, 30:] = 1
+        img = np.where(truth[:, :, None] == 1, BLUE, RED).astype(np.float32)
+        img += np.random.default_rng(0).normal(0, 0.05, img.shape).astype(np.float32)
+    r = composite.synthesize(img, 56, 40, labels=truth, output_labels=layout, fill=fill, seed=1,
+                             **FAST, **params)
+    assert np.array_equal(r.output_labels, layout)
+    assert r.fallbacks == ()
+    assert _regions_keep_their_colours(r.image, layout) > 0.99
+
+
+def test_composite_output_and_its_label_map_tile_and_are_deterministic(scene):
+    img, truth = scene
+    a = composite.synthesize(img, 64, 48, labels=truth, seed=3, **FAST)
+    b = composite.synthesize(img, 64, 48, labels=truth, seed=3, **FAST)
+    assert np.array_equal(a.image, b.image) and np.array_equal(a.output_labels, b.output_labels)
+    assert a.image.shape == (48, 64, 3) and a.output_labels.shape == (48, 64)
+    assert seam_ratio(a.image) < 1.3
+    assert seam_ratio(a.output_labels.astype(np.float32)) < 1.5
+    assert set(np.unique(a.output_labels)) == {0, 1}
+    assert composite.class_proportion_error(truth, a.output_labels) < 0.15
+    assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
+
+
+def test_registered_method_segments_automatically(scene):
+    img, _ = scene
+    out = texsynth.synthesize(img, 40, 32, method="composite", seed=2, **FAST)
+    again = texsynth.synthesize(img, 40, 32, method="composite", seed=2, **FAST)
+    assert out.shape == (32, 40, 3) and np.array_equal(out, again)
+    assert seam_ratio(out) < 1.3
+
+
+def test_output_label_map_painted_in_the_segmentation_colours(scene):
+    img, truth = scene
+    layout = np.zeros((32, 32), np.int32)
+    layout[:, 16:] = 1
+    painted = label_colours(layout)
+    r = composite.synthesize(img, 32, 32, labels=truth, output_labels=painted, seed=0, **FAST)
+    assert np.array_equal(r.output_labels, layout)
+
+
+def test_entropy_order_puts_the_flat_class_first():
+    rng = np.random.default_rng(0)
+    img = np.zeros((32, 32, 3), np.float32)
+    labels = np.zeros((32, 32), np.int32)
+    labels[:, 16:] = 1
+    img[:, 16:] = 0.5  # flat
+    img[:, :16] = rng.random((32, 16, 3))  # busy
+    assert composite.complexity_order(img, labels) == [1, 0]
+
+
+def test_bad_input_is_refused_clearly(scene):
+    img, truth = scene
+    with pytest.raises(ValueError, match="label image is 40 x 48 pixels; it must be 48 x 48"):
+        composite.synthesize(img, 32, 32, labels=truth[:, :40])
+    with pytest.raises(ValueError, match="single class"):
+        composite.synthesize(img, 32, 32, labels=np.zeros((48, 48), np.int32))
+    with pytest.raises(ValueError, match="output label map is 16 x 16 pixels"):
+        composite.synthesize(img, 32, 32, labels=truth, output_labels=np.zeros((16, 16)))
+    with pytest.raises(ValueError, match="labels are 0..1"):
+        composite.synthesize(img, 16, 16, labels=truth, output_labels=np.full((16, 16), 3))
+    with pytest.raises(ValueError, match="single-texture"):
+        composite.synthesize(img, 16, 16, labels=truth, fill="composite")
+    with pytest.raises(ValueError, match="unknown method"):
+        composite.synthesize(img, 16, 16, labels=truth, fill="nope")
+    flat = np.full((32, 32, 3), 0.5, np.float32)
+    with pytest.raises(ValueError, match="single class"):
+        texsynth.synthesize(flat, 16, 16, method="composite")

@@ -1,0 +1,180 @@
+"""The pairwise clique model (paper 004, sec. 2): statistics, selection, synthesis, file."""
+
+import numpy as np
+import pytest
+
+import texsynth
+from texsynth import cooccurrence as co
+from texsynth.cliques import (
+    PairIndex,
+    Relaxation,
+    Term,
+    colour_sets,
+    difference_histograms,
+    half_offsets,
+)
+from texsynth.metrics import seam_ratio
+
+from _images import ramp_photo, smooth_noise
+
+FAST = {"max_cliques": 8, "sweeps": 8}
+
+
+@pytest.fixture(scope="module")
+def texture():
+    return smooth_noise((48, 48), seed=2, sigma=1.5)
+
+
+@pytest.fixture(scope="module")
+def model(texture):
+    return co.fit(texture, max_cliques=8, seed=0)
+
+
+def _brute(u, d, span, periodic, labels=None, pair=(0, 0)):
+    h, w = u.shape
+    out = np.zeros(2 * span + 1, np.int64)
+    for y in range(h):
+        for x in range(w):
+            ty, tx = y + d[0], x + d[1]
+            if periodic:
+                ty, tx = ty % h, tx % w
+            elif not (0 <= ty < h and 0 <= tx < w):
+                continue
+            if labels is not None and (labels[y, x], labels[ty, tx]) != pair:
+                continue
+            out[u[ty, tx] - u[y, x] + span] += 1
+    return out
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_clique_histograms_match_a_brute_force_count(periodic):
+    rng = np.random.default_rng(0)
+    u = rng.integers(0, 5, (7, 9))
+    labels = rng.integers(0, 2, (7, 9))
+    offsets = half_offsets(3)
+    assert len(offsets) == 24 and len({tuple(d) for d in offsets} & {(0, -1), (-1, 0)}) == 0
+    got = difference_histograms(u, offsets, 4, periodic)
+    pairs = [(0, 1)] * len(offsets)
+    masked = difference_histograms(u, offsets, 4, periodic, labels, pairs)
+    for i, d in enumerate(offsets):
+        assert np.array_equal(got[i], _brute(u, d, 4, periodic))
+        assert np.array_equal(masked[i], _brute(u, d, 4, periodic, labels, (0, 1)))
+    if periodic:
+        index = PairIndex(u.shape, offsets, 4, labels, pairs)
+        assert np.array_equal(index.histograms(u), masked)
+
+
+@pytest.mark.parametrize("shape", [(64, 64), (23, 37), (6, 5)])
+def test_no_set_of_the_colouring_holds_both_pixels_of_a_clique(shape):
+    offsets = half_offsets(3)[[0, 1, 5, 11, 17, 23]]
+    h, w = shape
+    sets = colour_sets(shape, offsets)
+    assert np.array_equal(np.sort(np.concatenate(sets)), np.arange(h * w))
+    for s in sets:
+        member = np.zeros(h * w, bool)
+        member[s] = True
+        member = member.reshape(shape)
+        for dy, dx in offsets:
+            if dy % h or dx % w:
+                assert not (member & np.roll(member, (-dy, -dx), (0, 1))).any()
+
+
+def test_selection_adds_the_worst_type_first_and_stops_at_the_threshold(texture):
+    marks = co.quantize(texture[:, :, 0], float(texture.min()), float(texture.max()), 16)
+    levels = np.arange(16, dtype=np.int32)
+    offsets = half_offsets(4)
+    counts = difference_histograms(marks, offsets, 15, False)
+    target = counts / counts.sum(axis=1, keepdims=True)
+    singleton = np.bincount(marks.ravel(), minlength=16) / marks.size
+    cands = [Term(tuple(map(int, d)), t) for d, t in zip(offsets, target, strict=True)]
+    rng = np.random.default_rng(0)
+    start = levels[rng.integers(0, 16, (32, 32))]
+    noise = difference_histograms(start, offsets, 15, True)
+    first = np.sqrt(((noise / noise.sum(1, keepdims=True) - target) ** 2).sum(1))
+
+    chosen, added = co.select(cands, counts.sum(1), singleton, levels, start.copy(),
+                              np.random.default_rng(1), threshold=0.05, max_cliques=40)
+    assert chosen[0] == int(np.argmax(first)) and added[0] == pytest.approx(first.max())
+    assert tuple(offsets[chosen[0]]) in {(0, 1), (1, 0), (1, 1), (1, -1)}  # a short type
+    assert len(set(chosen)) == len(chosen) and min(added) >= 0.05
+    assert added[0] > 3 * added[-1]  # distances fall as types are added
+    assert 2 <= len(chosen) < 40  # stopped by the threshold, not the cap
+
+    capped, _ = co.select(cands, counts.sum(1), singleton, levels, start.copy(),
+                          np.random.default_rng(1), threshold=0.05, max_cliques=2)
+    assert capped == chosen[:2]
+    none, _ = co.select(cands, counts.sum(1), singleton, levels, start.copy(),
+                        np.random.default_rng(1), threshold=10.0)
+    assert none == []
+
+
+def test_synthesis_reduces_the_selected_clique_distances_monotonically(model):
+    channel = model.channels[0]
+    rng = np.random.default_rng(3)
+    p = channel.singleton.astype(np.float64)
+    start = rng.choice(channel.levels, size=(40, 40), p=p / p.sum())
+    relax = Relaxation(start, channel.levels, p, channel.terms())
+    before, energies = relax.distances(), [relax.energy()]
+    for _ in range(12):
+        relax.sweep(rng)
+        energies.append(relax.energy())
+    assert (np.diff(energies) <= 1e-12).all()
+    assert energies[-1] < 0.2 * energies[0]
+    assert (relax.distances() < before).all()
+    # the histograms kept incrementally are the histograms of the image
+    recount = difference_histograms(relax.image, channel.offsets, channel.span, True)
+    assert np.array_equal(recount, relax.counts)
+
+
+def test_saved_model_reloads_identically_and_is_small(model, tmp_path):
+    path = tmp_path / "model.npz"
+    size = model.save(path)
+    assert size == path.stat().st_size and size < 8000
+    again = co.Model.load(path)
+    for a, b in zip(model.channels, again.channels, strict=True):
+        for name in ("levels", "singleton", "offsets", "histograms", "distances"):
+            x, y = getattr(a, name), getattr(b, name)
+            assert x.dtype == y.dtype and np.array_equal(x, y), name
+        assert (a.lo, a.hi, a.categorical) == (b.lo, b.hi, b.categorical)
+    assert np.array_equal(model.synthesize(24, 20, seed=4), again.synthesize(24, 20, seed=4))
+
+
+def test_a_file_that_is_no_model_is_refused(tmp_path):
+    path = tmp_path / "x.npz"
+    path.write_bytes(b"not a model")
+    with pytest.raises(ValueError, match="not a texsynth clique model"):
+        co.Model.load(path)
+
+
+@pytest.mark.parametrize("size", [(96, 64), (37, 23), (5, 3)])
+def test_model_synthesizes_any_size_without_the_exemplar_and_tiles(model, size):
+    width, height = size
+    out = co.synthesize(model, width, height, seed=1, sweeps=10)
+    assert out.shape == (height, width, 3) and out.dtype == np.float32
+    assert np.isfinite(out).all()
+    if min(size) > 8:
+        assert seam_ratio(out) < 1.3
+
+
+def test_registered_method_tiles_is_deterministic_and_keeps_the_colours():
+    photo = ramp_photo((40, 48), seed=1)
+    a = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=2, **FAST)
+    b = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=2, **FAST)
+    c = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=3, **FAST)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    assert seam_ratio(a) < 1.3
+    assert np.abs(a.mean(axis=(0, 1)) - photo.mean(axis=(0, 1))).max() < 0.05
+    assert (a >= photo.min(axis=(0, 1)) - 1e-6).all() and (a <= photo.max(axis=(0, 1)) + 1e-6).all()
+
+
+def test_grey_exemplar_gives_one_channel():
+    grey = smooth_noise((32, 32), seed=5, channels=1)[:, :, 0]
+    out = texsynth.synthesize(grey, 24, 24, method="cooccurrence", **FAST)
+    assert out.shape == (24, 24, 1)
+
+
+def test_bad_parameters_are_refused():
+    with pytest.raises(ValueError, match="max_offset"):
+        texsynth.synthesize(np.zeros((16, 16)), 8, 8, method="cooccurrence", max_offset=0)
+    with pytest.raises(ValueError, match="classes"):
+        co.label_levels(13)

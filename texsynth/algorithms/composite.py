@@ -1,0 +1,69 @@
+"""Composite textures as a registered method: automatic labels, synthesized label map.
+
+Paper 004, sections 1, 3 and 4 (texsynth.composite). ``texsynth.synthesize`` passes scalar
+parameters only, so this method covers the fully automatic case (unsupervised segmentation,
+synthesized label map). A painted label image of the exemplar or an output label map are
+images, not panel parameters: they go through ``texsynth.composite.synthesize(exemplar, width,
+height, labels=..., output_labels=...)``, which the Blender composite operator calls.
+"""
+
+from __future__ import annotations
+
+from .. import composite as cp
+from .. import cooccurrence as co
+from ..registry import Method, Param, get, methods, register
+from ..segmentation import CONTRAST
+
+__all__ = ["composite"]
+
+
+def composite(exemplar, width, height, rng, progress, fill="cooccurrence",
+              interaction_distance=cp.INTERACTION_DISTANCE, max_offset=co.MAX_OFFSET,
+              threshold=co.THRESHOLD, max_cliques=co.MAX_CLIQUES, levels=co.LEVELS,
+              sweeps=co.SWEEPS, label_scale=0, contrast=CONTRAST, texture_features=False):
+    """Segment ``exemplar``, synthesize a label map and fill it (height, width, C)."""
+    return cp.synthesize(exemplar, width, height, fill=fill, seed=int(rng.integers(2**31)),
+                         progress=progress, interaction_distance=interaction_distance,
+                         max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
+                         levels=levels, sweeps=sweeps, label_scale=label_scale,
+                         contrast=contrast, texture_features=texture_features).image
+
+
+def _memory(shape, width, height, params):
+    """The clique model's working set, plus the label maps and the per-class masks."""
+    return get("cooccurrence").memory(shape, width, height, params) + 16 * width * height
+
+
+register(Method(
+    name="composite",
+    label="Composite",
+    description="Composite texture (Zalesny & Van Gool): segment the exemplar into subtextures, "
+                "synthesize their layout as a label texture, fill each region with its own "
+                "subtexture, with interactions across boundaries; for marble, terrain, "
+                "mixtures of materials",
+    function=composite,
+    params=(
+        Param("fill", str, "cooccurrence", "Method that fills each region (clique model: with "
+              "interactions)", choices=("cooccurrence",) + tuple(
+                  m.name for m in methods() if m.name not in ("composite", "cooccurrence"))),
+        Param("interaction_distance", int, cp.INTERACTION_DISTANCE,
+              "Reach of the cliques across subtexture boundaries (0: none)", 0, 8),
+        Param("max_offset", int, co.MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
+        Param("threshold", float, co.THRESHOLD,
+              "Stop adding clique types when the worst histogram distance is below this",
+              0.001, 1.0),
+        Param("max_cliques", int, co.MAX_CLIQUES, "Most clique types per subtexture and "
+              "colour component", 1, 100),
+        Param("levels", int, co.LEVELS, "Grey levels of the strongest colour component", 4, 128),
+        Param("sweeps", int, co.SWEEPS, "Relaxation sweeps over the output", 1, 500),
+        Param("label_scale", int, 0, "Scale at which the label map is modelled (0: automatic)",
+              0, 8),
+        Param("contrast", float, CONTRAST, "Segmentation: colour difference (Lab) below which "
+              "regions join one class; larger gives fewer classes", 0.5, 100.0),
+        Param("texture_features", bool, False, "Segmentation: add filter-bank texture features "
+              "to the colour"),
+    ),
+    min_exemplar=16,
+    memory=_memory,
+    reference="Zalesny & Van Gool, Composite texture descriptions, secs. 1, 3, 4 (paper 004)",
+))

@@ -1,0 +1,163 @@
+"""Efros-Leung non-parametric sampling, grown on a torus so the result tiles.
+
+Paper 000, section 11.3.4, Algorithm 11.6; paper 003, section 28.4 (window size effects);
+Efros & Leung, "Texture synthesis by non-parametric sampling", ICCV 1999.
+
+    Choose a small square of pixels at random from the exemplar; insert it into the output.
+    Until every output pixel has a value:
+        for each unfilled pixel on the boundary of the filled region, most filled neighbours first:
+            compare its window (``window`` x ``window``) with every exemplar window by
+            Gaussian-weighted SSD over the filled pixels only (weights normalised over them);
+            pick uniformly among the windows within (1 + ``epsilon``) of the best;
+            copy that window's centre pixel.
+
+Periodic output: output windows wrap around the canvas (toroidal), so the last pixels are matched
+against wrapped context and the result tiles. Exemplar windows never wrap unless the exemplar is
+declared tileable (``exemplar_tiles``). Colour channels are matched jointly and whole pixels are
+copied, so the method also returns a position map (row, col into the exemplar).
+
+Search: exact, not approximate (``texsynth.search.PatchMatrix.sample``). Every exemplar window
+is a row of a matrix, so the weighted SSD of a batch of output windows against all of them is a
+matrix product. It is first taken over the inner 7 x 7 offsets only, a lower bound of the full
+SSD (every term is non-negative); the full SSD of the best-bounded window bounds the minimum from
+above; only windows whose bound is within (1 + epsilon) of it are scored in full. The result is
+the same as scoring every window in full (docs/BENCHMARKS.md: the speed-up over the
+pixel-by-pixel search).
+
+Deviations, one line each:
+- boundary pixels are filled in batches so the search is a matrix product: a batch keeps, per
+  2 x 2 cell of the torus, the pixel with the most filled neighbours, and drops any 8-neighbour of
+  a better one; a pixel then sees the pixels filled before its batch but not the others of its
+  batch (at least 2 pixels away), where the paper fills one pixel at a time;
+- Gaussian sigma = window / 6.4 and a 3 x 3 seed, as in Efros & Leung's own code;
+- stuck fallback (Efros & Leung's MaxErrThreshold): a pixel whose best match has an RMS
+  difference above 0.3 of the exemplar's value range waits for more context; when every boundary
+  pixel waits, the threshold grows by 10 % and they are tried again;
+- a rounding tolerance (1e-5 of the terms' size) joins the (1 + epsilon) rule, so windows that
+  match exactly are all candidates even when the best distance rounds to zero.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..registry import Method, Param, register
+from ..search import (
+    PatchMatrix,
+    gaussian_weights,
+    sparse_subset,
+    square_offsets,
+    toroidal_gather,
+)
+
+__all__ = ["efros_leung"]
+
+#: Efros & Leung's MaxErrThreshold: RMS match error, as a fraction of the exemplar's value range,
+#: above which a pixel waits for more context.
+MAX_ERROR = 0.3
+#: Largest distance matrix computed at once (bytes): bounds the memory of a batch.
+BATCH_BYTES = 64 << 20
+SEED = 3
+#: The boundary of the filled region: unfilled pixels with a filled 8-neighbour.
+ADJACENT = square_offsets(3)
+#: Pixels filled in one batch are at least this far apart (Chebyshev), so never 8-neighbours.
+SPACING = 2
+
+
+def efros_leung(exemplar, width, height, rng, progress, window=11, epsilon=0.1,
+                exemplar_tiles=False):
+    """Synthesize (height, width, C) and its position map; see the module notes."""
+    h, w, c = exemplar.shape
+    if not exemplar_tiles and min(h, w) < window:
+        raise ValueError(f"the exemplar ({w} x {h}) is smaller than the {window} x {window} "
+                         "window; use a smaller window or a larger exemplar")
+    offsets = square_offsets(window)
+    gauss = gaussian_weights(offsets, window / 6.4)
+    progress(0.0, "Efros-Leung: indexing exemplar windows")
+    patches = PatchMatrix(exemplar, offsets, wrap=exemplar_tiles)
+    centres = patches.positions
+    n_windows = len(centres)
+    batch_max = max(1, BATCH_BYTES // (4 * n_windows))
+    value_range = float(np.ptp(exemplar)) or 1.0
+    threshold = c * (MAX_ERROR * value_range) ** 2
+
+    out = np.zeros((height, width, c), np.float32)
+    positions = np.zeros((height, width, 2), np.int32)
+    filled = np.zeros((height, width), bool)
+    count = np.zeros((height, width), np.int32)
+    touching = np.zeros((height, width), np.int8)
+    waiting = np.zeros((height, width), bool)
+
+    def fill(rows, cols, src):
+        out[rows, cols] = exemplar[src[:, 0], src[:, 1]]
+        positions[rows, cols] = src
+        filled[rows, cols] = True
+        rr = (rows[:, None] + offsets[None, :, 0]) % height
+        cc = (cols[:, None] + offsets[None, :, 1]) % width
+        np.add.at(count, (rr, cc), 1)
+        waiting[rr, cc] = False
+        np.add.at(touching, ((rows[:, None] + ADJACENT[:, 0]) % height,
+                             (cols[:, None] + ADJACENT[:, 1]) % width), 1)
+
+    # Seed: a random SEED x SEED exemplar square at a random place on the torus.
+    s = min(SEED, h, w)
+    p0, q0 = rng.integers(h - s + 1), rng.integers(w - s + 1)
+    y0, x0 = rng.integers(height), rng.integers(width)
+    du, dv = np.mgrid[0:s, 0:s].reshape(2, -1)
+    flat, first = np.unique(((y0 + du) % height) * width + (x0 + dv) % width, return_index=True)
+    fill(flat // width, flat % width, np.stack([p0 + du[first], q0 + dv[first]], axis=1))
+
+    total = height * width
+    done = int(filled.sum())
+    while done < total:
+        rows, cols = np.nonzero(~filled & ~waiting & (touching > 0))
+        if len(rows) == 0:
+            threshold *= 1.1 ** 2
+            waiting[:] = False
+            continue
+        priority = count[rows, cols] + rng.random(len(rows))
+        keep = sparse_subset(rows, cols, priority, (height, width), SPACING, rng)
+        rows, cols, priority = rows[keep], cols[keep], priority[keep]
+        if len(rows) > batch_max:
+            top = np.argsort(-priority, kind="stable")[:batch_max]
+            rows, cols = rows[top], cols[top]
+
+        neighbourhood = toroidal_gather(out, rows, cols, offsets)
+        g = gauss * toroidal_gather(filled, rows, cols, offsets)
+        g /= g.sum(axis=1, keepdims=True)
+        pick, best = patches.sample(neighbourhood, g, epsilon, rng)
+        ok = best <= threshold
+        waiting[rows[~ok], cols[~ok]] = True
+        fill(rows[ok], cols[ok], centres[pick[ok]])
+        done += int(ok.sum())
+        progress(done / total, f"Efros-Leung: {done} of {total} pixels")
+    return out, positions
+
+
+def _memory(shape, width, height, params):
+    """The window matrix, one batch's distances, the output and its bookkeeping."""
+    h, w, c = shape
+    k = params["window"]
+    windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
+    return 4 * windows * k * k * (c + 1) + BATCH_BYTES * 2 + width * height * (4 * c + 8 + 6)
+
+
+register(Method(
+    name="efros_leung",
+    label="Efros-Leung",
+    description="Grow the texture pixel by pixel, copying the centre of a well-matching exemplar "
+                "window (Efros & Leung 1999): keeps local structure; slow on large outputs",
+    function=efros_leung,
+    params=(
+        Param("window", int, 11, "Side of the square neighbourhood compared (odd); larger "
+              "keeps larger structures", 3, 41),
+        Param("epsilon", float, 0.1, "Candidates are the windows within (1 + epsilon) of the "
+              "best match", 0.0, 1.0),
+        Param("exemplar_tiles", bool, False, "The exemplar itself tiles: its windows may wrap "
+              "around its edges"),
+    ),
+    min_exemplar=3,
+    memory=_memory,
+    reference="Efros & Leung 1999; paper 000 sec. 11.3.4 Alg. 11.6; paper 003 sec. 28.4",
+    positions=True,
+))

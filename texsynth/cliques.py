@@ -1,0 +1,394 @@
+"""Pairwise clique statistics and their synthesis by stochastic relaxation.
+
+Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), section 2 and section 4.
+
+A clique is a pair of pixels (p, p + d); its type is the offset d = (dy, dx). The statistic of a
+clique type is the histogram of intensity differences u(p + d) - u(p) over every clique of that
+type; the singleton histogram is the histogram of u itself. Section 4 adds cliques whose head p
+and tail p + d lie in given subtextures (classes a and b of a label map): a :class:`Term` is one
+clique type restricted to heads in class a and tails in class b (a = b for a plain subtexture).
+
+Images here are integer "marks" in [0, span]. For grey levels the marks are the levels
+0..G-1; a label map uses marks of a Golomb ruler (0, 1, 3, 7, ...), whose pairwise differences are
+all distinct, so a difference histogram of marks is the ordered co-occurrence of labels.
+
+Synthesis (:class:`Relaxation`) drives the difference histograms of the given terms and the
+singleton histogram of the free pixels towards their targets by minimising
+
+    E(u) = sum_t || h_t(u) - target_t ||^2 + || h_s(u) - target_s ||^2,
+
+(h the normalised histograms, the Euclidean distance of the paper's step 4), the Julesz-ensemble
+sampler of Zhu, Liu & Wu (2000) at zero temperature with random proposals. The pixels are split
+into sets with no selected clique inside a set (a lattice colouring of the torus,
+:func:`colour_sets`); all pixels of a set are proposed a new value at once (half drawn from the
+singleton target, half a step of up to ``step`` levels), each one's exact single-pixel change of
+E is computed from the current histograms in one vectorised pass, and the improving proposals
+are applied together. No two pixels of a set share a clique, so their histogram changes add up
+exactly and the set's true change of E is known before it is applied; when many pixels move
+mass into the same bins and overshoot (E would rise), only the better half of them is kept,
+and so on. E therefore never increases; it is bounded below, so it converges (measured in
+docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60).
+The grid is a torus, so every synthesized image tiles. (Paper 004 defers its synthesis procedure
+to its reference [13]; this sampler is ours.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "GOLOMB",
+    "half_offsets",
+    "pair_values",
+    "difference_histograms",
+    "colour_sets",
+    "PairIndex",
+    "Term",
+    "Relaxation",
+]
+
+#: Optimal Golomb rulers: marks whose pairwise differences are all distinct (index = count).
+GOLOMB = (
+    (), (0,), (0, 1), (0, 1, 3), (0, 1, 4, 6), (0, 1, 4, 9, 11), (0, 1, 4, 10, 12, 17),
+    (0, 1, 4, 10, 18, 23, 25), (0, 1, 4, 9, 15, 22, 32, 34), (0, 1, 5, 12, 25, 27, 35, 41, 44),
+    (0, 1, 6, 10, 23, 26, 34, 41, 53, 55), (0, 1, 4, 13, 28, 33, 47, 54, 64, 70, 72),
+    (0, 2, 6, 24, 29, 40, 43, 55, 68, 75, 76, 85),
+)
+
+
+def half_offsets(max_offset: int) -> np.ndarray:
+    """Every clique type up to ``max_offset`` (Chebyshev), one of d and -d: int32 (n, 2).
+
+    d and -d describe the same cliques (the histogram of -d is the mirror of d's), so only the
+    half plane dy > 0, or dy == 0 and dx > 0, is listed; shortest first, then by angle.
+    """
+    m = int(max_offset)
+    dy, dx = np.mgrid[0:m + 1, -m:m + 1]
+    keep = (dy > 0) | (dx > 0)
+    d = np.stack([dy[keep], dx[keep]], axis=1).astype(np.int32)
+    order = np.lexsort((np.arctan2(d[:, 0], d[:, 1]), np.hypot(d[:, 0], d[:, 1])))
+    return d[order]
+
+
+def pair_values(a: np.ndarray, offset, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(head, tail) values of every clique of type ``offset`` in the 2-D array ``a``.
+
+    Periodic: every pixel is a head and its tail wraps around. Otherwise only pairs with both
+    pixels inside the array (a photograph's border is no clique).
+    """
+    dy, dx = int(offset[0]), int(offset[1])
+    if periodic:
+        return a, np.roll(a, (-dy, -dx), axis=(0, 1))
+    h, w = a.shape
+    y0, y1 = max(0, -dy), h - max(0, dy)
+    x0, x1 = max(0, -dx), w - max(0, dx)
+    return a[y0:y1, x0:x1], a[y0 + dy:y1 + dy, x0 + dx:x1 + dx]
+
+
+def difference_histograms(u: np.ndarray, offsets, span: int, periodic: bool,
+                          labels: np.ndarray | None = None, classes=None) -> np.ndarray:
+    """Counts of u(p + d) - u(p) for each offset d: int64 (n, 2 * span + 1), bin 0 = -span.
+
+    ``u`` holds integer marks in [0, span]. With ``labels`` and ``classes`` (one (head, tail)
+    class pair per offset), only cliques whose head is in the first class and tail in the
+    second are counted (section 4's interaction cliques).
+    """
+    u = np.asarray(u, np.int32)
+    bins = 2 * span + 1
+    out = np.zeros((len(offsets), bins), np.int64)
+    for i, d in enumerate(offsets):
+        head, tail = pair_values(u, d, periodic)
+        diff = tail - head + span
+        if labels is not None:
+            lh, lt = pair_values(labels, d, periodic)
+            a, b = classes[i]
+            diff = diff[(lh == a) & (lt == b)]
+        out[i] = np.bincount(diff.ravel(), minlength=bins)
+    return out
+
+
+class PairIndex:
+    """The cliques of many terms on one periodic grid, found once: their histograms are then
+    one gather and one ``bincount`` per call (step 3 of the selection, repeated every round).
+
+    ``offsets`` (n, 2) with one (head, tail) class pair each in ``classes`` (all (0, 0) without
+    ``labels``).
+    """
+
+    def __init__(self, shape, offsets, span: int, labels=None, classes=None):
+        h, w = shape
+        self.n, self.span, self.bins = len(offsets), span, 2 * span + 1
+        index = np.arange(h * w, dtype=np.int32).reshape(shape)
+        heads, tails, ids = [], [], []
+        for i, d in enumerate(offsets):
+            head, tail = pair_values(index, d, True)
+            if labels is not None:
+                lh, lt = pair_values(labels, d, True)
+                keep = (lh == classes[i][0]) & (lt == classes[i][1])
+                head, tail = head[keep], tail[keep]
+            heads.append(head.ravel())
+            tails.append(tail.ravel())
+            ids.append(np.full(head.size, i * self.bins + span, np.int32))
+        self.head = np.concatenate(heads) if heads else np.zeros(0, np.int32)
+        self.tail = np.concatenate(tails) if tails else np.zeros(0, np.int32)
+        self.base = np.concatenate(ids) if ids else np.zeros(0, np.int32)
+
+    def histograms(self, u: np.ndarray) -> np.ndarray:
+        """Counts (n, bins) of u(tail) - u(head) per term."""
+        flat = np.asarray(u, np.int32).ravel()
+        b = flat[self.tail] - flat[self.head] + self.base
+        return np.bincount(b, minlength=self.n * self.bins).reshape(self.n, self.bins)
+
+
+def _lattice(offsets: np.ndarray, shape) -> tuple[int, int, int]:
+    """(K, a, b) with (a*dy + b*dx) mod K != 0 for every offset: colour = (a*y + b*x) mod K.
+
+    The smallest such K; among its solutions one that is consistent around the torus
+    (K divides a*H and b*W) when there is one. K = (m+1)^2, a = m+1, b = 1 always works.
+    """
+    h, w = shape
+    dy, dx = offsets[:, 0, None, None], offsets[:, 1, None, None]
+    m = int(np.abs(offsets).max())
+    for k in range(2, (m + 1) ** 2 + 1):
+        a, b = np.mgrid[0:k, 0:k]
+        ok = ((a * dy + b * dx) % k != 0).all(axis=0)
+        if ok.any():
+            torus = ok & ((a * h) % k == 0) & ((b * w) % k == 0)
+            pick = np.argwhere(torus if torus.any() else ok)[0]
+            return k, int(pick[0]), int(pick[1])
+    raise AssertionError("unreachable: (m+1)^2 always colours the box")
+
+
+def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarray]:
+    """Flat indices of the free pixels split into sets with no clique of ``offsets`` inside one.
+
+    A lattice colouring of the plane (:func:`_lattice`); where it is not consistent around the
+    torus (K does not divide the size), the pixels that meet their own colour across the wrap
+    are recoloured greedily (smallest colour none of their clique partners has).
+    """
+    h, w = shape
+    free = np.ones(shape, bool) if free is None else np.asarray(free, bool)
+    offsets = np.asarray(offsets, np.int32).reshape(-1, 2)
+    if len(offsets) == 0:
+        return [np.flatnonzero(free)]
+    # an offset that wraps onto the pixel itself pairs a pixel with itself: no colouring avoids it
+    offsets = offsets[(offsets[:, 0] % h != 0) | (offsets[:, 1] % w != 0)]
+    if len(offsets) == 0:
+        return [np.flatnonzero(free)]
+    k, a, b = _lattice(offsets, shape)
+    y, x = np.mgrid[0:h, 0:w]
+    colour = (a * y + b * x) % k
+    colour[~free] = -1
+    # where the lattice does not close around the torus, a pixel may meet its own colour
+    # across the wrap: of each such pair the pixel with the larger index is recoloured greedily
+    index = np.arange(h * w).reshape(shape)
+    clash = []
+    for dy, dx in offsets:
+        same = (colour == np.roll(colour, (-dy, -dx), axis=(0, 1))) & (colour >= 0)
+        clash.append(np.maximum(index[same], np.roll(index, (-dy, -dx), axis=(0, 1))[same]))
+    clash = np.unique(np.concatenate(clash))
+    if clash.size:
+        both = np.concatenate([offsets, -offsets])
+        cy, cx = clash // w, clash % w
+        around = ((cy[:, None] + both[:, 0]) % h) * w + (cx[:, None] + both[:, 1]) % w
+        flat = colour.ravel()
+        flat[clash] = -1
+        for p, ring in zip(clash.tolist(), around.tolist(), strict=True):
+            used = {int(flat[q]) for q in ring}
+            c = 0
+            while c in used:
+                c += 1
+            flat[p] = c
+    flat = colour.ravel()
+    order = np.argsort(flat, kind="stable")
+    counts = np.bincount(flat[order] + 1)
+    bounds = np.cumsum(counts)
+    return [s for s in np.split(order, bounds[:-1])[1:] if s.size]
+
+
+@dataclass(frozen=True)
+class Term:
+    """One clique type (head class ``head``, tail class ``tail``) and its target histogram."""
+
+    offset: tuple[int, int]
+    target: np.ndarray  # float32 (2 * span + 1,), sums to 1
+    head: int = 0
+    tail: int = 0
+
+
+class Relaxation:
+    """Zero-temperature stochastic relaxation of the free pixels of ``u`` (see module notes).
+
+    ``u``: int (H, W) initial marks, periodic. ``levels``: int marks a pixel may take (level i is
+    ``levels[i]``). ``singleton``: float (len(levels),) target histogram of the free pixels.
+    ``terms``: the clique terms. ``labels`` (H, W) and ``free_class``: only pixels of that
+    class change (all pixels without labels); the others stay as they are. ``step``: half-width
+    of the local proposals in levels (0: proposals from the singleton target only, as for
+    labels, whose levels have no order).
+
+    Every term is looked at from both ends: a free pixel p is the head of the clique
+    (p, p + d) and the tail of (p - d, p). The 2T (term, end) pairs of a set are evaluated in one
+    (pixels, 2T) gather, so a set costs a handful of numpy calls whatever T is.
+    """
+
+    def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3):
+        self.levels = np.asarray(levels, np.int32)
+        self.span = int(self.levels.max())
+        self.bins = 2 * self.span + 1
+        self.terms = list(terms)
+        self.step = int(step)
+        u = np.asarray(u, np.int32)
+        self.shape = h, w = u.shape
+        labels = np.zeros(self.shape, np.int32) if labels is None else np.asarray(labels)
+        free = labels == free_class
+        self.level_of = np.full(self.span + 1, -1, np.int32)
+        self.level_of[self.levels] = np.arange(len(self.levels))
+        if (self.level_of[u[free]] < 0).any():
+            raise ValueError("the initial image holds marks outside the levels")
+        cdf = np.cumsum(np.asarray(singleton, np.float64))
+        self._cdf = cdf / cdf[-1]
+
+        # a toroidally padded flat copy: the neighbour of padded index P at offset d is P + d_flat
+        t = len(self.terms)
+        offsets = np.array([term.offset for term in self.terms], np.int32).reshape(t, 2)
+        m = max(1, int(np.abs(offsets).max(initial=0)))
+        self.m, self.wp = m, w + 2 * m
+        pad_y, pad_x = np.mgrid[0:h + 2 * m, 0:w + 2 * m]
+        src = ((pad_y - m) % h) * w + (pad_x - m) % w
+        ghost = (pad_y < m) | (pad_y >= h + m) | (pad_x < m) | (pad_x >= w + m)
+        self._ghost_dst = np.flatnonzero(ghost)
+        core = src.ravel()[self._ghost_dst]
+        self._ghost_src = (core // w + m) * self.wp + core % w + m
+        self.pad = u.ravel()[src.ravel()].astype(np.int32)  # flat, (h + 2m) x (w + 2m)
+
+        # the (term, end) columns: heads look at p + d, tails at p - d
+        d_flat = offsets[:, 0] * self.wp + offsets[:, 1]
+        self._reach = np.concatenate([d_flat, -d_flat])
+        self._sign = np.repeat(np.array([1, -1], np.int32), t)
+        self._base = np.tile(np.arange(t, dtype=np.int32) * self.bins, 2) + self.span
+        takes_part = []  # (H, W) per column: p is free and the clique's other end is in class
+        for end in (0, 1):
+            for term in self.terms:
+                mine, other = (term.head, term.tail) if end == 0 else (term.tail, term.head)
+                dy, dx = term.offset if end == 0 else (-term.offset[0], -term.offset[1])
+                takes_part.append((labels == mine) & (np.roll(labels, (-dy, -dx), (0, 1))
+                                                       == other))
+        intra = [term.offset for term in self.terms
+                 if term.head == free_class and term.tail == free_class]
+        self.sets = []
+        for s in colour_sets(self.shape, intra, free):
+            padded = (s // w + m) * self.wp + s % w + m
+            part = np.stack([tp.ravel()[s] for tp in takes_part], axis=1) if t else None
+            self.sets.append((padded, None if part is None or part.all() else part))
+        self._parts = [np.ones((1, 2 * t), bool) if part is None else part
+                       for _, part in self.sets]
+
+        core_u = self.image
+        self.counts = np.stack([
+            difference_histograms(core_u, [term.offset], self.span, True, labels,
+                                  [(term.head, term.tail)])[0] for term in self.terms]
+        ).astype(np.float64).reshape(t, self.bins)
+        self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
+        self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
+            t, self.bins)
+        self.singleton_target = np.asarray(singleton, np.float64) / np.sum(singleton)
+        self.n_free = max(int(free.sum()), 1)
+        self.singleton_counts = np.bincount(self.level_of[core_u[free]],
+                                            minlength=len(self.levels)).astype(np.float64)
+
+    @property
+    def image(self) -> np.ndarray:
+        m, (h, w) = self.m, self.shape
+        return self.pad.reshape(h + 2 * m, self.wp)[m:m + h, m:m + w].copy()
+
+    def distances(self) -> np.ndarray:
+        """Euclidean distance of each term's histogram to its target (the paper's step 4)."""
+        return np.sqrt(((self.counts / self.pairs[:, None] - self.targets) ** 2).sum(axis=1))
+
+    def singleton_distance(self) -> float:
+        return float(np.sqrt(((self.singleton_counts / self.n_free
+                               - self.singleton_target) ** 2).sum()))
+
+    def energy(self) -> float:
+        return float((self.distances() ** 2).sum() + self.singleton_distance() ** 2)
+
+    def _propose(self, x, rng):
+        n = len(self.levels)
+        drawn = np.minimum(np.searchsorted(self._cdf, rng.random(x.size), side="right"), n - 1)
+        if self.step > 0:
+            jump = rng.integers(1, self.step + 1, x.size) * (2 * rng.integers(0, 2, x.size) - 1)
+            local = np.clip(self.level_of[x] + jump, 0, n - 1)
+            drawn = np.where(rng.random(x.size) < 0.5, drawn, local)
+        return self.levels[drawn]
+
+    def sweep(self, rng) -> float:
+        """Visit every free pixel once, set by set; returns the fraction of changed pixels."""
+        changed = total = 0
+        t = len(self.terms)
+        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
+        # and enters, paid by every clique of a pixel that changes value
+        second = np.tile(2.0 / self.pairs ** 2, 2)
+        for (padded, part), parts in zip(self.sets, self._parts, strict=True):
+            grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
+                    / self.pairs[:, None]).astype(np.float32).ravel()
+            g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
+            x = self.pad[padded]
+            y = self._propose(x, rng)
+            lx, ly = self.level_of[x], self.level_of[y]
+            de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts @ second)
+            bn = bo = None
+            if t:
+                nb = self.pad[padded[:, None] + self._reach]
+                bo = self._sign * (nb - x[:, None]) + self._base
+                bn = self._sign * (nb - y[:, None]) + self._base
+                delta = grad[bn]
+                delta -= grad[bo]
+                if part is not None:
+                    delta *= part
+                de += delta.sum(axis=1)
+            total += x.size
+            accept = np.flatnonzero(de < 0)
+            accept = accept[np.argsort(de[accept], kind="stable")]
+            # backtracking: the improving pixels' changes add up exactly in the histograms, so
+            # the true change of E is known; while it is not a decrease (many pixels moving mass
+            # into the same bins overshoot), keep only the better half
+            while accept.size:
+                d_s = (np.bincount(ly[accept], minlength=len(self.levels))
+                       - np.bincount(lx[accept], minlength=len(self.levels)))
+                d_c = self._count_change(bn, bo, part, accept)
+                if self._change(d_c, d_s) < 0:
+                    break
+                accept = accept[:accept.size // 2]
+            if not accept.size:
+                continue
+            changed += accept.size
+            self.pad[padded[accept]] = y[accept]
+            self.pad[self._ghost_dst] = self.pad[self._ghost_src]
+            self.singleton_counts += d_s
+            self.counts += d_c
+        return changed / max(total, 1)
+
+    def _count_change(self, bn, bo, part, accept) -> np.ndarray:
+        """Change of the term counts (T, bins) when the pixels ``accept`` of a set change."""
+        t = len(self.terms)
+        if not t:
+            return np.zeros((0, self.bins))
+        bn, bo = bn[accept], bo[accept]
+        if part is not None:
+            keep = part[accept]
+            bn, bo = bn[keep], bo[keep]
+        size = t * self.bins
+        return (np.bincount(bn.ravel(), minlength=size)
+                - np.bincount(bo.ravel(), minlength=size)).reshape(t, self.bins)
+
+    def _change(self, d_counts, d_singleton) -> float:
+        """Exact change of E for the given changes of the counts."""
+        n = self.pairs[:, None]
+        before = self.counts / n - self.targets
+        after = before + d_counts / n
+        s_before = self.singleton_counts / self.n_free - self.singleton_target
+        s_after = s_before + d_singleton / self.n_free
+        return float((after ** 2).sum() - (before ** 2).sum()
+                     + (s_after ** 2).sum() - (s_before ** 2).sum())

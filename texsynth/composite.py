@@ -1,0 +1,391 @@
+"""Composite textures: a label texture filled with subtextures that interact near boundaries.
+
+Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), sections 1, 3 and 4::
+
+    result = texsynth.composite.synthesize(exemplar, 512, 512)             # all automatic
+    result = texsynth.composite.synthesize(exemplar, 512, 512, labels=mask,
+                                           output_labels=painted_layout)
+    result.image, result.labels, result.output_labels
+
+1. Segment the exemplar: ``labels`` painted by the user (one flat colour per class), or the
+   unsupervised segmentation of section 3 (:func:`texsynth.segmentation.segment`).
+2. Model the label map as a texture: the clique model of section 2 on label marks
+   (:func:`texsynth.cooccurrence.fit_labels`).
+3. Model each subtexture from its own pixels only.
+4. Synthesize a label map (periodic) from 2, or take ``output_labels`` drawn by the user.
+5. Fill each region with its subtexture.
+
+Section 4, interactions (``fill="cooccurrence"``): subtextures are synthesized one after another
+in order of complexity, the entropy of their colour histogram, simplest first. The model of
+subtexture n holds its own cliques (head and tail in n) and, for every subtexture m that comes
+within ``interaction_distance`` of it in the exemplar, the cliques with head in n and tail in m
+and the reverse (ordered: head and tail are told apart). Where m comes earlier, its real
+intensities are in the statistics; where it comes later, the value 0 (the mean colour, as PCA
+components are centred) stands for it, as it will at synthesis time. Clique types are selected
+for each subtexture by the paper's steps 1-7, run in place on the exemplar's own layout (the
+exemplar's values in the earlier classes, 0 in the later ones, noise in class n).
+
+Colour: the exemplar's PCA components, each synthesized separately with a common level width
+(texsynth.cooccurrence); every subtexture shares the components' quantization so that
+differences across a boundary mean the same on both sides.
+
+Any other registered method can fill the regions instead (``fill="heeger_bergen"``, ...): it
+gets the largest square of the exemplar inside the class as its exemplar (its own pixels only)
+and fills the whole output, which the label map then cuts; no interactions, and a class whose
+square is smaller than ``MIN_SQUARE`` (or the method's minimum) is filled with ``cooccurrence``.
+
+Deviations, one line each:
+- the label texture is modelled at a reduced scale (``label_scale``, automatic from the mean
+  run length of the labels) and upsampled periodically (bilinear class indicators, arg max), so
+  that blobs larger than ``max_offset`` stay within reach of the cliques;
+- the in-place selection runs on a window of the exemplar (at most ``selection_size`` a
+  side) where class n is most frequent, treated as a torus;
+- the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from . import cooccurrence as co
+from .cliques import Relaxation, Term, difference_histograms, half_offsets
+from .color import ColorPCA
+from .progress import Progress
+from .segmentation import CONTRAST, label_colours, labels_from_image, segment
+
+__all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
+           "class_proportion_error", "INTERACTION_DISTANCE", "MIN_SQUARE"]
+
+INTERACTION_DISTANCE = 2
+#: Smallest inscribed square (pixels a side) handed to another fill method.
+MIN_SQUARE = 24
+#: Fewest cliques a candidate type needs in the exemplar to be modelled.
+MIN_PAIRS = 16
+
+
+@dataclass(frozen=True)
+class Composite:
+    """The output ``image`` (height, width, C), the exemplar's ``labels`` (H, W), the
+    ``output_labels`` (height, width), the synthesis ``order`` of the classes and the classes
+    filled with ``cooccurrence`` because their square was too small for the chosen method."""
+
+    image: np.ndarray
+    labels: np.ndarray
+    output_labels: np.ndarray
+    order: tuple[int, ...]
+    fallbacks: tuple[int, ...] = ()
+
+
+def complexity_order(exemplar: np.ndarray, labels: np.ndarray, bins: int = 8) -> list[int]:
+    """Classes by the entropy of their colour histogram (``bins`` per channel), lowest first."""
+    x = np.asarray(exemplar, np.float32)
+    lo, hi = x.min(axis=(0, 1)), x.max(axis=(0, 1))
+    q = np.clip(((x - lo) / np.maximum(hi - lo, 1e-6) * bins).astype(np.int64), 0, bins - 1)
+    code = np.zeros(labels.shape, np.int64)
+    for c in range(x.shape[2]):
+        code = code * bins + q[:, :, c]
+    entropy = []
+    for k in range(int(labels.max()) + 1):
+        p = np.bincount(code[labels == k]).astype(np.float64)
+        p = p[p > 0] / max(p.sum(), 1)
+        entropy.append(float(-(p * np.log2(p)).sum()))
+    return [int(k) for k in np.argsort(entropy, kind="stable")]
+
+
+def class_proportion_error(labels: np.ndarray, output_labels: np.ndarray) -> float:
+    """Half the L1 distance between the class proportions of two label maps (0 = same)."""
+    k = int(max(labels.max(), output_labels.max())) + 1
+    p = np.bincount(labels.ravel(), minlength=k) / labels.size
+    q = np.bincount(output_labels.ravel(), minlength=k) / output_labels.size
+    return float(np.abs(p - q).sum() / 2)
+
+
+# --- the label texture -----------------------------------------------------------------------
+
+
+def _run_length(labels: np.ndarray) -> float:
+    """Mean length of constant runs along rows and columns."""
+    h, w = labels.shape
+    rows = h * w / (np.count_nonzero(labels[:, 1:] != labels[:, :-1]) + h)
+    cols = h * w / (np.count_nonzero(labels[1:] != labels[:-1]) + w)
+    return float((rows + cols) / 2)
+
+
+def _downscale(labels: np.ndarray, f: int, classes: int) -> np.ndarray:
+    """Majority label of each f x f block."""
+    h, w = (labels.shape[0] // f) * f, (labels.shape[1] // f) * f
+    blocks = labels[:h, :w].reshape(h // f, f, w // f, f)
+    votes = np.stack([(blocks == k).sum(axis=(1, 3)) for k in range(classes)])
+    return votes.argmax(axis=0).astype(np.int32)
+
+
+def _upscale(labels: np.ndarray, height: int, width: int, classes: int) -> np.ndarray:
+    """Periodic bilinear interpolation of each class's indicator, then the arg max."""
+    h, w = labels.shape
+    y = (np.arange(height) + 0.5) * h / height - 0.5
+    x = (np.arange(width) + 0.5) * w / width - 0.5
+    y0, x0 = np.floor(y).astype(int), np.floor(x).astype(int)
+    fy, fx = (y - y0)[:, None], (x - x0)[None, :]
+    best = np.full((height, width), -1.0)
+    out = np.zeros((height, width), np.int32)
+    for k in range(classes):
+        ind = (labels == k).astype(np.float32)
+        a = ind[y0 % h][:, x0 % w]
+        b = ind[y0 % h][:, (x0 + 1) % w]
+        c = ind[(y0 + 1) % h][:, x0 % w]
+        d = ind[(y0 + 1) % h][:, (x0 + 1) % w]
+        v = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy
+        better = v > best
+        out[better], best[better] = k, v[better]
+    return out
+
+
+def synthesize_labels(labels: np.ndarray, width: int, height: int,
+                      seed: int | np.random.Generator = 0, label_scale: int = 0,
+                      max_offset: int = co.MAX_OFFSET, threshold: float = co.THRESHOLD,
+                      max_cliques: int = co.MAX_CLIQUES, sweeps: int = co.SWEEPS,
+                      progress: Callable[[float, str], object] | None = None) -> np.ndarray:
+    """A periodic label map (height, width) with the label texture of ``labels`` (steps 2, 4).
+
+    ``label_scale``: the label texture is modelled and synthesized ``label_scale`` times smaller
+    (0: automatic, the mean run length over ``max_offset``, at most 8, keeping at least 32
+    pixels a side).
+    """
+    rng = np.random.default_rng(seed)
+    report = progress if isinstance(progress, Progress) else Progress(progress)
+    classes = int(labels.max()) + 1
+    f = label_scale or int(np.clip(round(_run_length(labels) / max_offset), 1, 8))
+    f = max(1, min(f, min(labels.shape) // 32 or 1))
+    small = _downscale(labels, f, classes) if f > 1 else labels
+    model = co.fit_labels(small, classes, rng, max_offset, threshold, max_cliques,
+                          progress=report.span(0.0, 0.3))
+    shape = (-(-height // f), -(-width // f))
+    marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
+    out = model.channels[0].decode(marks, rng)
+    return _upscale(out, height, width, classes) if f > 1 else out
+
+
+# --- the subtextures --------------------------------------------------------------------------
+
+
+def _window(mask: np.ndarray, side: int) -> tuple[slice, slice]:
+    """The side x side window of the exemplar holding the most pixels of ``mask``."""
+    h, w = mask.shape
+    sh, sw = min(side, h), min(side, w)
+    box = ndimage.uniform_filter(mask.astype(np.float32), (sh, sw), mode="constant")
+    oy, ox = sh // 2, sw // 2
+    valid = box[oy:h - sh + oy + 1, ox:w - sw + ox + 1]
+    y, x = np.unravel_index(int(np.argmax(valid)), valid.shape)
+    return slice(y, y + sh), slice(x, x + sw)
+
+
+def _neighbours(labels: np.ndarray, n: int, distance: int) -> list[int]:
+    """Classes with a pixel within ``distance`` (Chebyshev) of a pixel of class n."""
+    if distance < 1:
+        return []
+    near = ndimage.binary_dilation(labels == n, np.ones((2 * distance + 1,) * 2, bool))
+    return [int(m) for m in np.unique(labels[near]) if m != n]
+
+
+def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int], span: int,
+                max_offset: int, distance: int) -> tuple[list[Term], np.ndarray]:
+    """Step 1 for class n: its own clique types and its interaction types, with the exemplar's
+    normalised histograms and clique counts; types with fewer than ``MIN_PAIRS`` cliques are
+    left out."""
+    own = half_offsets(max_offset)
+    near = half_offsets(distance) if distance >= 1 else np.zeros((0, 2), np.int32)
+    spec = [(d, n, n) for d in own]
+    for m in others:
+        spec += [(d, n, m) for d in near] + [(d, m, n) for d in near]
+    counts = difference_histograms(seen, [s[0] for s in spec], span, False, labels,
+                                   [(s[1], s[2]) for s in spec])
+    total = counts.sum(axis=1)
+    keep = total >= MIN_PAIRS
+    terms = [Term((int(d[0]), int(d[1])), (c / t).astype(np.float32), a, b)
+             for (d, a, b), c, t, k in zip(spec, counts, total, keep, strict=True) if k]
+    return terms, total[keep]
+
+
+def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
+                       max_offset, threshold, max_cliques, levels, sweeps, selection_size):
+    """Section 4: every PCA component, every class in ``order``, with interactions."""
+    pca = ColorPCA.fit(x)
+    comp = pca.forward(x)
+    lo, hi = comp.min(axis=(0, 1)), comp.max(axis=(0, 1))
+    width = max(float(hi[0] - lo[0]), 1e-6) / levels
+    channels = x.shape[2]
+    present = [n for n in order if (out_labels == n).any()]
+    out = np.zeros(out_labels.shape + (channels,), np.float32)
+    steps = channels * len(present)
+    for k in range(channels):
+        g = int(np.clip(np.ceil((hi[k] - lo[k]) / width), 2, levels))
+        levels_k = np.arange(g, dtype=np.int32)
+        marks = co.quantize(comp[:, :, k], lo[k], lo[k] + g * width, g)
+        zero = int(co.quantize(np.float32(0.0), lo[k], lo[k] + g * width, g))
+        synth = np.full(out_labels.shape, zero, np.int32)
+        for i, n in enumerate(present):
+            part = report.span((k * len(present) + i) / steps,
+                               (k * len(present) + i + 1) / steps)
+            later = order[order.index(n) + 1:]
+            seen = marks.copy()
+            seen[np.isin(labels, later)] = zero
+            own = labels == n
+            singleton = np.bincount(marks[own], minlength=g).astype(np.float64)
+            singleton /= singleton.sum()
+            others = _neighbours(labels, n, interaction_distance)
+            candidates, counts = _candidates(seen, labels, n, others, g - 1, max_offset,
+                                             interaction_distance)
+            # steps 2-7 in place, on the window of the exemplar where class n is most frequent
+            wy, wx = _window(own, selection_size)
+            start = seen[wy, wx].copy()
+            free = labels[wy, wx] == n
+            start[free] = levels_k[rng.integers(0, g, int(free.sum()))]
+            chosen, _ = co.select(candidates, counts, singleton, levels_k, start, rng,
+                                  labels[wy, wx], n, threshold, max_cliques, co.SELECTION_SWEEPS,
+                                  co.STEP, part.span(0.0, 0.4))
+            # synthesis of class n in the output, earlier classes in place, later ones 0
+            region = out_labels == n
+            synth[region] = rng.choice(levels_k, size=int(region.sum()), p=singleton)
+            relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
+                               out_labels, n, co.STEP)
+            for s in range(sweeps):
+                relax.sweep(rng)
+                part(0.4 + 0.6 * (s + 1) / sweeps, f"component {k + 1}, class {n}: "
+                     f"sweep {s + 1}/{sweeps}")
+            synth = relax.image
+        dither = rng.random(synth.shape, dtype=np.float32)
+        out[:, :, k] = lo[k] + (synth + dither) * np.float32(width)
+    return np.clip(pca.inverse(out), x.min(axis=(0, 1)), x.max(axis=(0, 1)))
+
+
+def _inscribed_square(mask: np.ndarray) -> tuple[slice, slice, int]:
+    """The largest axis-aligned square inside ``mask`` (chessboard distance transform)."""
+    padded = np.pad(mask, 1)
+    dist = ndimage.distance_transform_cdt(padded, metric="chessboard")[1:-1, 1:-1]
+    y, x = np.unravel_index(int(np.argmax(dist)), dist.shape)
+    r = int(dist[y, x]) - 1
+    return slice(y - r, y + r + 1), slice(x - r, x + r + 1), 2 * r + 1
+
+
+# --- the whole -------------------------------------------------------------------------------
+
+
+def _as_labels(image, shape, what: str, colours: np.ndarray | None = None,
+               classes: int | None = None) -> np.ndarray:
+    a = np.asarray(image)
+    if a.shape[:2] != tuple(shape):
+        raise ValueError(f"the {what} is {a.shape[1] if a.ndim > 1 else '?'} x {a.shape[0]} "
+                         f"pixels; it must be {shape[1]} x {shape[0]}")
+    if classes is None:
+        return labels_from_image(a)
+    if a.ndim == 3 and a.shape[2] > 1:
+        # a painted colour map: each pixel takes the class of the nearest class colour
+        c = a[:, :, :3].astype(np.float64).reshape(-1, 1, min(a.shape[2], 3))
+        nearest = ((c - colours[None, :, :c.shape[2]]) ** 2).sum(axis=2).argmin(axis=1)
+        return nearest.reshape(shape).astype(np.int32)
+    a = a.reshape(shape)
+    if a.dtype.kind == "f" and not np.array_equal(a, np.round(a)):
+        raise ValueError(f"the {what} must hold whole class numbers or colours")
+    if a.min() < 0 or a.max() >= classes:
+        raise ValueError(f"the {what} holds classes {int(a.min())}..{int(a.max())}; the "
+                         f"exemplar's labels are 0..{classes - 1}")
+    return a.astype(np.int32)
+
+
+def _class_colours(label_image, labels: np.ndarray, classes: int) -> np.ndarray:
+    """The colour of each class: mean colour of a painted label image, else the palette."""
+    a = np.asarray(label_image) if label_image is not None else None
+    if a is None or a.ndim != 3 or a.shape[2] == 1:
+        return label_colours(np.arange(classes)[None])[0].astype(np.float64)
+    a = a[:, :, :3].astype(np.float64)
+    n = np.maximum(np.bincount(labels.ravel(), minlength=classes), 1)
+    return np.stack([np.bincount(labels.ravel(), a[:, :, c].ravel(), classes) / n
+                     for c in range(a.shape[2])], axis=1)
+
+
+def synthesize(exemplar, width: int, height: int, labels=None, output_labels=None,
+               fill: str = "cooccurrence", seed: int = 0,
+               progress: Callable[[float, str], object] | None = None,
+               interaction_distance: int = INTERACTION_DISTANCE,
+               max_offset: int = co.MAX_OFFSET, threshold: float = co.THRESHOLD,
+               max_cliques: int = co.MAX_CLIQUES, levels: int = co.LEVELS,
+               sweeps: int = co.SWEEPS, label_scale: int = 0, contrast: float = CONTRAST,
+               texture_features: bool = False, selection_size: int = co.SELECTION_SIZE,
+               fill_params: dict | None = None) -> Composite:
+    """Synthesize a periodic composite texture of ``width`` x ``height`` (see module notes).
+
+    Parameters
+    ----------
+    exemplar : (H, W) or (H, W, C) image, sRGB-encoded for the automatic segmentation.
+    labels : optional label image of the exemplar, the same H x W: integer classes, or a
+        painted colour image with one flat colour per class. None: unsupervised segmentation
+        (``contrast``, ``texture_features``: see :func:`texsynth.segmentation.segment`).
+    output_labels : optional label map of the output, ``height`` x ``width``: integer classes
+        of ``labels``, or colours (each pixel takes the class of the nearest class colour: the
+        painted colours of ``labels``, or :func:`texsynth.segmentation.label_colours`'s
+        palette for automatic labels). None: synthesized from the label texture.
+    fill : ``"cooccurrence"`` (with interactions) or the name of any registered method.
+    interaction_distance : reach of the cross-boundary cliques (0: none).
+    fill_params : parameters for the other fill method.
+
+    Raises ``ValueError`` for a label image of the wrong size, a single class, or a fill
+    method that does not exist.
+    """
+    from . import get_method, validate_exemplar
+    from . import synthesize as synthesize_method
+
+    x = validate_exemplar(exemplar, 8)
+    if fill != "cooccurrence":
+        if fill == "composite":
+            raise ValueError("fill must be a single-texture method, not 'composite'")
+        get_method(fill)
+    rng = np.random.default_rng(seed)
+    report = Progress(progress)
+    h, w = x.shape[:2]
+    if labels is None:
+        report(0.0, "segmenting the exemplar")
+        lab = segment(x, contrast=contrast, texture=texture_features, seed=rng)
+    else:
+        lab = _as_labels(labels, (h, w), "label image")
+    classes = int(lab.max()) + 1
+    if classes < 2:
+        raise ValueError("the exemplar has a single class: nothing to compose; use a "
+                         "single-texture method such as 'cooccurrence', or paint labels"
+                         + ("" if labels is not None else " (or lower the contrast)"))
+    if output_labels is None:
+        out_lab = synthesize_labels(lab, width, height, rng, label_scale, max_offset, threshold,
+                                    max_cliques, sweeps, report.span(0.02, 0.2))
+    else:
+        out_lab = _as_labels(output_labels, (height, width), "output label map",
+                             _class_colours(labels, lab, classes), classes)
+    order = complexity_order(x, lab)
+    fill_part = report.span(0.2, 1.0)
+    fallbacks = []
+    if fill == "cooccurrence":
+        image = _fill_cooccurrence(x, lab, out_lab, order, rng, fill_part, interaction_distance,
+                                   max_offset, threshold, max_cliques, levels, sweeps,
+                                   selection_size)
+    else:
+        method = get_method(fill)
+        image = np.zeros((height, width, x.shape[2]), np.float32)
+        todo = [n for n in order if (out_lab == n).any()]
+        for i, n in enumerate(todo):
+            part = fill_part.span(i / len(todo), (i + 1) / len(todo))
+            sy, sx, side = _inscribed_square(lab == n)
+            region = out_lab == n
+            if side >= max(MIN_SQUARE, method.min_exemplar):
+                sub = synthesize_method(x[sy, sx], width, height, fill,
+                                        int(rng.integers(2**31)), part, **(fill_params or {}))
+            else:
+                fallbacks.append(n)
+                only = np.where(lab == n, n, (n + 1) % classes)
+                sub = _fill_cooccurrence(x, only, np.full((height, width), n, np.int32), [n],
+                                         rng, part, 0, max_offset, threshold, max_cliques,
+                                         levels, sweeps, selection_size)
+            image[region] = sub[region]
+    return Composite(np.ascontiguousarray(image, np.float32), lab, out_lab, tuple(order),
+                     tuple(fallbacks))
