@@ -26,6 +26,7 @@ SWEEP = (0.0, 0.25, 0.5, 1.0, 2.0)
 SWEEP_TEXTURE = "pebbles01"
 COLOUR_TEXTURES = ("green_leaves", "pink_marble", "terrain_warmup", "rock01")
 TIMING_TEXTURE = "pebbles01"
+DEFAULTS = texsynth.get_method("de_bonet").resolve({})
 
 
 def _crop(image: np.ndarray, side: int) -> np.ndarray:
@@ -64,7 +65,7 @@ def _comparison(ctx, side):
 def _sweep(ctx, side):
     tex = _pick(ctx, SWEEP_TEXTURE)
     ex = _crop(tex.image, side // 2)
-    levels = db.pyramid_depth(ex.shape, side, side, 5)
+    levels = db.pyramid_depth(ex.shape, side, side, DEFAULTS["scales"])
     features = db.pyramid_features(periodic_component(ex), SteerablePyramid(ex.shape[:2], levels),
                                    LaplacianPyramid(ex.shape[:2], levels))
     out_shapes = LaplacianPyramid((side, side), levels).level_shapes
@@ -88,7 +89,7 @@ def _per_channel(ex, side, threshold):
     """The alternative colour rule: PCA channels, each sampled with its own choices."""
     pca = ColorPCA.fit(ex)
     comp = pca.forward(ex)
-    levels = db.pyramid_depth(ex.shape, side, side, 5)
+    levels = db.pyramid_depth(ex.shape, side, side, DEFAULTS["scales"])
     steerable = SteerablePyramid(ex.shape[:2], levels)
     laplacian = LaplacianPyramid(ex.shape[:2], levels)
     po = LaplacianPyramid((side, side), levels)
@@ -127,7 +128,6 @@ def _colour(ctx, side):
 def _timing(ctx, sizes):
     """HB stops at 2048^2 here (its 4096^2 run is in the Scaling section)."""
     ex = _crop(_pick(ctx, TIMING_TEXTURE).image, 256)
-    params = texsynth.get_method("de_bonet").resolve({})
     lines = []
     for side in sizes:
         repeats = 3 if side <= 1024 else 1
@@ -135,7 +135,7 @@ def _timing(ctx, sizes):
               if side <= 2048 else None)
         out = ctx.measure(lambda s=side: texsynth.synthesize(ex, s, s, method="de_bonet",
                                                              seed=SEED), repeats)
-        estimate = db._memory(ex.shape, side, side, params) / 2**20
+        estimate = db._memory(ex.shape, side, side, DEFAULTS) / 2**20
         hb_cells = (f"{hb.median_s:.2f} | {hb.peak_mib:.0f}" if hb else "see Scaling | -")
         ratio = f"{out.median_s / hb.median_s:.2f}" if hb else "-"
         lines.append(f"| {ex.shape[0]} -> {side} | {hb_cells} | {out.median_s:.2f} | "
@@ -150,8 +150,9 @@ def run(ctx) -> str:
     colour = [] if ctx.quick else _colour(ctx, 256)
     timing = _timing(ctx, (128, 256) if ctx.quick else (512, 1024, 2048, 4096))
     out = [
-        "`texsynth.synthesize(..., method=\"de_bonet\")`, defaults (threshold 0.5, depth 3, "
-        "scales 5, orientations 4). The coarsest Laplacian level is copied, tiled from a random "
+        "`texsynth.synthesize(..., method=\"de_bonet\")`, defaults ("
+        + ", ".join(f"{k} {v}" for k, v in DEFAULTS.items())
+        + "). The coarsest Laplacian level is copied, tiled from a random "
         "offset; every finer level copies, location by location, the values (Laplacian level "
         "and K steerable responses, all channels) of an exemplar location drawn uniformly among "
         "all whose parent structure (the coarser levels read at that position) is within the "

@@ -249,7 +249,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress, stats=
     return sources
 
 
-def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, scales=5,
+def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, scales=4,
              orientations=4):
     """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
     levels = pyramid_depth(exemplar.shape, width, height, scales)
