@@ -158,9 +158,9 @@ def test_model_synthesizes_any_size_without_the_exemplar_and_tiles(model, size):
 
 def test_registered_method_tiles_is_deterministic_and_keeps_the_colours():
     photo = ramp_photo((40, 48), seed=1)
-    a = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=2, **FAST)
-    b = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=2, **FAST)
-    c = texsynth.synthesize(photo, 56, 40, method="cooccurrence", seed=3, **FAST)
+    a = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=2, **FAST)
+    b = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=2, **FAST)
+    c = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=3, **FAST)
     assert np.array_equal(a, b) and not np.array_equal(a, c)
     assert seam_ratio(a) < 1.3
     assert np.abs(a.mean(axis=(0, 1)) - photo.mean(axis=(0, 1))).max() < 0.05

@@ -20,7 +20,8 @@ singleton histogram of the free pixels towards their targets by minimising
 (h the normalised histograms, the Euclidean distance of the paper's step 4), the Julesz-ensemble
 sampler of Zhu, Liu & Wu (2000) at zero temperature with random proposals. The pixels are split
 into sets with no selected clique inside a set (a lattice colouring of the torus,
-:func:`colour_sets`); all pixels of a set are proposed a new value at once (half drawn from the
+:func:`colour_sets`, shifted by a random torus translation each sweep, visited in random
+order); all pixels of a set are proposed a new value at once (half drawn from the
 singleton target, half a step of up to ``step`` levels), each one's exact single-pixel change of
 E is computed from the current histograms in one vectorised pass, and the improving proposals
 are applied together. No two pixels of a set share a clique, so their histogram changes add up
@@ -277,13 +278,13 @@ class Relaxation:
                                                        == other))
         intra = [term.offset for term in self.terms
                  if term.head == free_class and term.tail == free_class]
-        self.sets = []
-        for s in colour_sets(self.shape, intra, free):
-            padded = (s // w + m) * self.wp + s % w + m
-            part = np.stack([tp.ravel()[s] for tp in takes_part], axis=1) if t else None
-            self.sets.append((padded, None if part is None or part.all() else part))
-        self._parts = [np.ones((1, 2 * t), bool) if part is None else part
-                       for _, part in self.sets]
+        # the colouring of the whole torus, as (row, col) per set; each sweep shifts it by a
+        # random translation (a fixed one leaves the pixels its wrap-around repair recoloured as
+        # a band of small sets, which take up the histograms' slack more eagerly: a seam)
+        self.sets = [(s // w, s % w) for s in colour_sets(self.shape, intra)]
+        self._free = None if free.all() else free.ravel()
+        plain = t == 0 or all(tp.all() for tp in takes_part)
+        self._takes_part = None if plain else np.stack([tp.ravel() for tp in takes_part], 1)
 
         core_u = self.image
         self.counts = np.stack([
@@ -324,20 +325,37 @@ class Relaxation:
         return self.levels[drawn]
 
     def sweep(self, rng) -> float:
-        """Visit every free pixel once, set by set; returns the fraction of changed pixels."""
+        """Visit every free pixel once, set by set in random order, the colouring shifted by a
+        random translation; returns the fraction of changed pixels."""
         changed = total = 0
         t = len(self.terms)
         # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
         # and enters, paid by every clique of a pixel that changes value
         second = np.tile(2.0 / self.pairs ** 2, 2)
-        for (padded, part), parts in zip(self.sets, self._parts, strict=True):
+        h, w = self.shape
+        m, wp = self.m, self.wp
+        sy, sx = rng.integers(0, h), rng.integers(0, w)
+        all_second = second.sum()
+        # a fixed order of the sets would carry changes one way across the lattice
+        for k in rng.permutation(len(self.sets)):
+            rows, cols = self.sets[k]
+            rows, cols = (rows + sy) % h, (cols + sx) % w
+            flat = rows * w + cols
+            if self._free is not None:
+                keep = self._free[flat]
+                rows, cols, flat = rows[keep], cols[keep], flat[keep]
+                if not flat.size:
+                    continue
+            padded = (rows + m) * wp + cols + m
+            part = None if self._takes_part is None else self._takes_part[flat]
+            parts = all_second if part is None else part @ second
             grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
                     / self.pairs[:, None]).astype(np.float32).ravel()
             g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
             x = self.pad[padded]
             y = self._propose(x, rng)
             lx, ly = self.level_of[x], self.level_of[y]
-            de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts @ second)
+            de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts)
             bn = bo = None
             if t:
                 nb = self.pad[padded[:, None] + self._reach]

@@ -30,8 +30,10 @@ def composite(exemplar, width, height, rng, progress, fill="cooccurrence",
 
 
 def _memory(shape, width, height, params):
-    """The clique model's working set, plus the label maps and the per-class masks."""
-    return get("cooccurrence").memory(shape, width, height, params) + 16 * width * height
+    """The clique model's working set, the label maps, and which (term, end) columns each
+    pixel takes part in (2 bytes per selected type and pixel)."""
+    return (get("cooccurrence").memory(shape, width, height, params)
+            + (16 + 2 * params["max_cliques"]) * width * height)
 
 
 register(Method(
