@@ -1,4 +1,9 @@
-"""python -m benchmarks [--quick] [--only NAME ...]: run the sections, write docs/BENCHMARKS.md."""
+"""python -m benchmarks [--quick] [--only NAME ...]: run the sections, write docs/BENCHMARKS.md.
+
+``--quick`` writes build/benchmarks-quick/ instead, so it never replaces the committed figures.
+
+``--only`` runs the named sections (module names) and keeps the others from the existing file.
+"""
 
 from __future__ import annotations
 
@@ -18,6 +23,7 @@ import scipy
 from .context import REPO, SHARED_TEXTURES, Context
 
 DOCS = REPO / "docs"
+QUICK_DOCS = REPO / "build" / "benchmarks-quick"
 REQUIREMENTS = Path(__file__).with_name("requirements.txt")
 
 
@@ -72,14 +78,16 @@ def main() -> None:
     args = parser.parse_args()
     if not args.no_install:
         install_peers()
-    ctx = Context(quick=args.quick, img_dir=DOCS / "img")
+    docs = QUICK_DOCS if args.quick else DOCS  # a quick run never replaces the committed figures
+    ctx = Context(quick=args.quick, img_dir=docs / "img")
     source = (f"the {len(ctx.textures)} textures of ../shared/textures (MANIFEST.tsv)"
               if SHARED_TEXTURES.exists() else "the bundled sample only (../shared is absent)")
     parts = [
         "# Benchmarks",
         "",
-        f"Written by `python -m benchmarks{' --quick' if args.quick else ''}` on "
-        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Do not edit by hand.",
+        f"Written by `python -m benchmarks{' --quick' if args.quick else ''}`; each section "
+        "says when it ran (`--only NAME ...` re-runs some sections and keeps the others). "
+        "Do not edit by hand.",
         "",
         f"- Machine: {machine()}. Shared and noisy: read ratios between rows measured in this "
         "same run, not bare times.",
@@ -88,24 +96,45 @@ def main() -> None:
         "- Times are wall-clock medians (range in brackets) of repeated calls in this process; "
         "peak memory is tracemalloc's peak (numpy buffers included) over the call, and where "
         "said the growth of the process's resident high-water mark (which sees C code).",
-        f"- Load average when the run started: {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
-        "cores.",
         "",
     ]
-    out = DOCS / ("BENCHMARKS.md" if args.only is None else "BENCHMARKS.partial.md")
+    out = docs / "BENCHMARKS.md"
+    kept = _sections_of(out.read_text()) if args.only is not None and out.exists() else {}
     run_start = time.perf_counter()
+    done = {}
     for module in sections():
         if args.only is not None and module.__name__.rsplit(".", 1)[1] not in args.only:
             continue
         print(f"== {module.TITLE}", flush=True)
-        start = time.perf_counter()
+        start, load = time.perf_counter(), os.getloadavg()[0]
         body = module.run(ctx)
-        parts += [f"## {module.TITLE}", "", body.strip(), "",
-                  f"*Section time: {time.perf_counter() - start:.0f} s.*", ""]
-        out.write_text("\n".join(parts + ["*(run in progress)*", ""]))  # kept if interrupted
-    parts.append(f"*Whole run: {(time.perf_counter() - run_start) / 60:.1f} min.*")
-    out.write_text("\n".join(parts) + "\n")
+        done[module.TITLE] = "\n".join([
+            f"## {module.TITLE}", "", body.strip(), "",
+            f"*Section time: {time.perf_counter() - start:.0f} s; run "
+            f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load average {load:.1f} at "
+            "its start.*", ""])
+        out.write_text(_document(parts, kept, done) + "*(run in progress)*\n")  # if interrupted
+    minutes = (time.perf_counter() - run_start) / 60
+    footer = f"*Whole run: {minutes:.1f} min.*" if args.only is None else ""
+    out.write_text(_document(parts, kept, done) + footer + "\n")
     print(f"wrote {out}")
+
+
+def _sections_of(text: str) -> dict[str, str]:
+    """The ``## Title`` sections of an earlier BENCHMARKS.md, by title (for ``--only``)."""
+    found = {}
+    for chunk in text.split("\n## ")[1:]:
+        title = chunk.split("\n", 1)[0].strip()
+        body = chunk.split("\n*Whole run:")[0].split("\n*(run in progress)*")[0]
+        found[title] = "## " + body.rstrip() + "\n"
+    return found
+
+
+def _document(header: list[str], kept: dict[str, str], done: dict[str, str]) -> str:
+    """Header, then every section in ``ORDER``: this run's where it ran, else the earlier one."""
+    titles = [m.TITLE for m in sections()]
+    body = [done.get(t) or kept.get(t) for t in titles]
+    return "\n".join(header) + "\n" + "\n".join(b for b in body if b) + "\n"
 
 
 if __name__ == "__main__":

@@ -4,9 +4,9 @@ Each module keeps a ``classes`` tuple and its own ``register``/``unregister``; t
 delegates, in order (settings before the operator and panel that read them).
 """
 
-from . import composite, material, panel, positions, properties, synthesize
+from . import composite, estimate, material, panel, positions, properties, synthesize
 
-_modules = (properties, synthesize, panel, positions, material, composite)
+_modules = (properties, synthesize, panel, positions, material, composite, estimate)
 
 
 def register():

@@ -11,8 +11,9 @@
   label image's (or the segmentation palette's).
 
 The image choices are kept per scene in ``scene.texsynth_composite``; the composite method's
-parameters, size, seed and output are the panel's (``scene.texsynth``). Everything is checked
-before anything is made; on error or cancel the file is unchanged.
+parameters are the panel's (``scene.texsynth.params.composite``), and so are size, seed and
+output (``scene.texsynth``). Everything is checked before anything is made; on error or cancel
+the file is unchanged.
 """
 
 import bpy
@@ -21,25 +22,10 @@ import numpy as np
 from .. import texsynth
 from ..texsynth import composite, segmentation
 from . import nodes, output, pixels, properties, source
-from .job import Job
-from .synthesize import TEXSYNTH_OT_synthesize
+from .job import Job, JobOperator
+from .panel import SidebarPanel
 
 METHOD = "composite"
-
-
-class CompositeJob(Job):
-    """A :class:`Job` running ``texsynth.composite.synthesize``; its result is a Composite."""
-
-    def run(self) -> None:
-        exemplar, width, height, (labels, layout), seed, params = self._call
-        try:
-            self.result = composite.synthesize(
-                exemplar, width, height, labels=labels, output_labels=layout, seed=seed,
-                progress=self._progress, **params)
-        except texsynth.Cancelled:
-            self.cancelled = True
-        except Exception as error:  # reported on the main thread, where bpy can be used
-            self.error = error
 
 
 def _image(name: str, what: str):
@@ -73,15 +59,13 @@ class TEXSYNTH_OT_segment(bpy.types.Operator):
 
     def execute(self, context):
         settings = context.scene.texsynth
-        method = texsynth.get_method(METHOD)
-        names = {p.name: n for p, n in properties.param_properties(method)}
+        params = properties.method_settings(settings, texsynth.get_method(METHOD))
         try:
             src = source.find_source(context, self.source_image)
             image = bpy.data.images[src.image]
             exemplar, _ = pixels.read_exemplar(image)
-            labels = segmentation.segment(
-                exemplar, contrast=getattr(settings, names["contrast"]),
-                texture=getattr(settings, names["texture_features"]), seed=settings.seed)
+            labels = segmentation.segment(exemplar, contrast=params.contrast,
+                                          texture=params.texture_features, seed=settings.seed)
         except ValueError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -92,7 +76,7 @@ class TEXSYNTH_OT_segment(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class TEXSYNTH_OT_synthesize_composite(bpy.types.Operator):
+class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
     """Synthesize a composite texture (label map + subtextures) from the active Image Texture
     node's image into a new image and node, and its label map into another new image"""
 
@@ -100,27 +84,19 @@ class TEXSYNTH_OT_synthesize_composite(bpy.types.Operator):
     bl_label = "Synthesize Composite"
     bl_options = {"REGISTER", "UNDO"}
 
-    # The run, the worker thread, progress and Esc are texsynth.synthesize's own.
-    execute = TEXSYNTH_OT_synthesize.execute
-    invoke = TEXSYNTH_OT_synthesize.invoke
-    modal = TEXSYNTH_OT_synthesize.modal
-    cancel = TEXSYNTH_OT_synthesize.cancel
-    _end_ui = TEXSYNTH_OT_synthesize._end_ui
-    _fail = TEXSYNTH_OT_synthesize._fail
-
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
         for name in ("label_image", "output_labels"):
             layout.prop(self, name)
-        for _, name in properties.param_properties(texsynth.get_method(METHOD)):
-            layout.prop(self, name)
+        properties.draw_params(layout, self, texsynth.get_method(METHOD))
         for name in ("width", "height", "seed", "output"):
             layout.prop(self, name)
 
-    def _prepare(self, context):
+    def prepare(self, context):
         """Check the input and copy the images out of Blender; raises ``ValueError``."""
-        properties.fill_unset(self, context.scene.texsynth)
+        method = texsynth.get_method(METHOD)
+        properties.fill_unset(self, context.scene.texsynth, method)
         chosen = context.scene.texsynth_composite
         src = source.find_source(context, self.source_image)
         image = bpy.data.images[src.image]
@@ -134,32 +110,21 @@ class TEXSYNTH_OT_synthesize_composite(bpy.types.Operator):
         if layout_name:
             layout, _ = pixels.read_exemplar(_image(layout_name, "output label map"))
             height, width = layout.shape[:2]
-        target = output.plan(self.output, self.output_dir, image.name, METHOD, self.seed)
-        method = texsynth.get_method(METHOD)
-        params = {p.name: getattr(self, name) for p, name in properties.param_properties(method)}
-        job = CompositeJob(exemplar, width, height, (labels, layout), self.seed, params)
+        target = self.target(image.name, METHOD)
+        job = Job(composite.synthesize, exemplar, width, height, labels=labels,
+                  output_labels=layout, seed=self.seed, **properties.param_values(self, method))
         return job, (src, encoding, target)
 
-    def _finish(self, job, plan):
-        if job.cancelled:
-            self.report({"INFO"}, "Synthesis cancelled: nothing was created")
-            return {"CANCELLED"}
-        if job.error is not None:
-            return self._fail(job.error)
+    def make(self, result, plan):
         src, encoding, target = plan
-        result = job.result
-        try:
-            image = output.create_image(result.image, encoding, target)
-        except OSError as error:
-            return self._fail(error)
+        image = output.create_image(result.image, encoding, target)
         layout = _labels_image(f"{target.stem}_labels", result.output_labels)
         tree, node = source.source_node(src)
         if node is not None:
             nodes.add_result_node(tree, node, image)
         classes = int(result.labels.max()) + 1
-        self.report({"INFO"}, f"Synthesized '{image.name}' ({image.size[0]} x {image.size[1]}, "
-                              f"{classes} classes) and its label map '{layout.name}'")
-        return {"FINISHED"}
+        return (f"Synthesized '{image.name}' ({image.size[0]} x {image.size[1]}, {classes} "
+                f"classes) and its label map '{layout.name}'")
 
 
 class TEXSYNTH_PG_composite(bpy.types.PropertyGroup):
@@ -175,19 +140,12 @@ class TEXSYNTH_PG_composite(bpy.types.PropertyGroup):
                     "output's); empty: synthesized from the label texture")
 
 
-class TEXSYNTH_PT_composite(bpy.types.Panel):
+class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
     """Under the Texture Synthesis panel: label source, segmentation, layout and the button."""
 
     bl_label = "Composite"
-    bl_space_type = "NODE_EDITOR"
-    bl_region_type = "UI"
-    bl_category = "TexSynth"
     bl_parent_id = "TEXSYNTH_PT_synthesize"
     bl_options = {"DEFAULT_CLOSED"}
-
-    @classmethod
-    def poll(cls, context):
-        return getattr(context.space_data, "tree_type", "") == "ShaderNodeTree"
 
     def draw(self, context):
         layout = self.layout
@@ -196,9 +154,9 @@ class TEXSYNTH_PT_composite(bpy.types.Panel):
         layout.template_ID(chosen, "label_image", open="image.open")
         layout.operator(TEXSYNTH_OT_segment.bl_idname, icon="IMAGE_RGB")
         layout.template_ID(chosen, "output_labels", open="image.open")
-        settings = context.scene.texsynth
-        for _, name in properties.param_properties(texsynth.get_method(METHOD)):
-            layout.prop(settings, name)
+        method = texsynth.get_method(METHOD)
+        properties.draw_params(layout, properties.method_settings(context.scene.texsynth,
+                                                                  method), method)
         layout.operator(TEXSYNTH_OT_synthesize_composite.bl_idname, icon="TEXTURE")
 
 
@@ -207,7 +165,7 @@ classes = (TEXSYNTH_PG_composite, TEXSYNTH_OT_segment, TEXSYNTH_OT_synthesize_co
 
 
 def register():
-    annotations = properties.settings_annotations({"SKIP_SAVE"})
+    annotations = properties.operator_annotations((texsynth.get_method(METHOD),))
     annotations.update(
         source_image=bpy.props.StringProperty(
             name="Source Image", options={"SKIP_SAVE"},

@@ -1,20 +1,34 @@
-"""One synthesis, run in the caller's thread or in a worker thread (numpy only, never bpy)."""
+"""Long work for an operator: a :class:`Job` (numpy only, never bpy) and :class:`JobOperator`.
+
+``JobOperator.execute()`` runs the job synchronously: in background mode (``blender -b``, the
+bpy module), from scripts and from the redo panel. ``invoke()`` (a panel's button) in the UI runs
+it in a worker thread while a modal timer shows progress; Esc or right-click cancels. Every check
+happens in ``prepare`` before anything is made, and ``make`` makes the new datablocks on the main
+thread only after the work succeeded: on error or cancel the file is unchanged.
+"""
 
 import threading
+import traceback
+
+import bpy
 
 from .. import texsynth
+from . import output
+
+POLL_SECONDS = 0.1
 
 
 class Job:
-    """Runs ``texsynth.synthesize`` and keeps its progress, result, error or cancellation.
+    """Runs ``function(*args, progress=..., **kwargs)`` and keeps its progress, result, error or
+    cancellation.
 
     The main thread reads ``fraction``/``message`` while the worker runs and calls
-    :meth:`cancel` to stop it: the progress callback then returns False, ``synthesize`` raises
+    :meth:`cancel` to stop it: the progress callback then returns False, ``function`` raises
     ``texsynth.Cancelled`` and no result is kept.
     """
 
-    def __init__(self, exemplar, width, height, method, seed, params):
-        self._call = (exemplar, width, height, method, seed, params)
+    def __init__(self, function, *args, **kwargs):
+        self._call = (function, args, kwargs)
         self._cancel = threading.Event()
         self._thread = None
         self.fraction = 0.0
@@ -24,10 +38,9 @@ class Job:
         self.cancelled = False
 
     def run(self) -> None:
-        exemplar, width, height, method, seed, params = self._call
+        function, args, kwargs = self._call
         try:
-            self.result = texsynth.synthesize(exemplar, width, height, method=method, seed=seed,
-                                              progress=self._progress, **params)
+            self.result = function(*args, progress=self._progress, **kwargs)
         except texsynth.Cancelled:
             self.cancelled = True
         except Exception as error:  # reported on the main thread, where bpy can be used
@@ -47,3 +60,87 @@ class Job:
     def _progress(self, fraction: float, message: str) -> bool:
         self.fraction, self.message = fraction, message
         return not self._cancel.is_set()
+
+
+class JobOperator:
+    """Mixin for an operator (``class X(JobOperator, bpy.types.Operator)``) whose work is a Job.
+
+    The operator defines ``prepare(context) -> (job, plan)``, which checks everything and copies
+    the pixels out of Blender (raising ``ValueError``), and ``make(result, plan) -> str``, which
+    makes the new datablocks from the job's result and returns the message to report (raising
+    ``ValueError`` or ``OSError``).
+    """
+
+    def execute(self, context):
+        try:
+            job, plan = self.prepare(context)
+        except ValueError as error:
+            return self._fail(error)
+        job.run()
+        return self._finish(job, plan)
+
+    def invoke(self, context, event):
+        if bpy.app.background:
+            return self.execute(context)
+        try:
+            self._job, self._plan = self.prepare(context)
+        except ValueError as error:
+            return self._fail(error)
+        self._job.start()
+        wm = context.window_manager
+        wm.progress_begin(0.0, 1.0)
+        self._timer = wm.event_timer_add(POLL_SECONDS, window=context.window)
+        wm.modal_handler_add(self)
+        context.workspace.status_text_set("TexSynth: starting (Esc to cancel)")
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        job = self._job
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            job.cancel()  # the worker stops at its next progress report
+            context.workspace.status_text_set("TexSynth: cancelling")
+            return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        if not job.done:
+            context.window_manager.progress_update(job.fraction)
+            context.workspace.status_text_set(
+                f"TexSynth: {job.message} ({job.fraction:.0%}); Esc to cancel")
+            return {"PASS_THROUGH"}
+        self._end_ui(context)
+        return self._finish(job, self._plan)
+
+    def cancel(self, context):
+        self._job.cancel()
+        self._end_ui(context)
+
+    def target(self, image_name: str, method_name: str) -> output.Target:
+        """Where the result for ``image_name`` goes, from the operator's output settings."""
+        return output.plan(self.output, self.output_dir, image_name, method_name, self.seed)
+
+    def _end_ui(self, context):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+
+    def _finish(self, job, plan):
+        """Make the new datablocks from a finished job (main thread)."""
+        if job.cancelled:
+            self.report({"INFO"}, "Synthesis cancelled: nothing was created")
+            return {"CANCELLED"}
+        if job.error is not None:
+            return self._fail(job.error)
+        try:
+            message = self.make(job.result, plan)
+        except (ValueError, OSError) as error:
+            return self._fail(error)
+        self.report({"INFO"}, message)
+        return {"FINISHED"}
+
+    def _fail(self, error):
+        if not isinstance(error, (ValueError, OSError)):
+            traceback.print_exception(error)
+            error = f"{type(error).__name__}: {error}"
+        self.report({"ERROR"}, str(error))
+        return {"CANCELLED"}

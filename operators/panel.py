@@ -5,8 +5,9 @@ import bpy
 from . import properties, source
 
 
-class TEXSYNTH_PT_synthesize(bpy.types.Panel):
-    bl_label = "Texture Synthesis"
+class SidebarPanel:
+    """Mixin of the panels of the TexSynth tab of the Shader Editor's sidebar."""
+
     bl_space_type = "NODE_EDITOR"
     bl_region_type = "UI"
     bl_category = "TexSynth"
@@ -14,6 +15,10 @@ class TEXSYNTH_PT_synthesize(bpy.types.Panel):
     @classmethod
     def poll(cls, context):
         return getattr(context.space_data, "tree_type", "") == "ShaderNodeTree"
+
+
+class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
+    bl_label = "Texture Synthesis"
 
     def draw(self, context):
         layout = self.layout
@@ -28,12 +33,4 @@ class TEXSYNTH_PT_synthesize(bpy.types.Panel):
 
 classes = (TEXSYNTH_PT_synthesize,)
 
-
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

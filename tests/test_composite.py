@@ -36,6 +36,18 @@ def test_segmentation_finds_two_classes_without_being_told(scene):
     assert agree > 0.97
 
 
+def test_automatic_contrast_splits_a_low_contrast_mixture():
+    """Two greys 9 Lab units apart: one class at contrast 6, two with the automatic default."""
+    rng = np.random.default_rng(2)
+    truth = (np.arange(64)[:, None] // 16 + np.arange(64)[None, :] // 16) % 2
+    img = np.where(truth[:, :, None] == 1, 0.50, 0.58) + rng.normal(0, 0.01, (64, 64, 3))
+    img = np.clip(img, 0, 1).astype(np.float32)
+    assert segment(img, contrast=6.0).max() == 0
+    labels = segment(img)
+    assert labels.max() == 1
+    assert max((labels == truth).mean(), (labels != truth).mean()) > 0.95
+
+
 def test_segmentation_of_a_uniform_texture_gives_one_class():
     rng = np.random.default_rng(1)
     img = np.clip(0.5 + rng.normal(0, 0.03, (40, 40, 3)), 0, 1).astype(np.float32)

@@ -17,6 +17,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import composite, cooccurrence, segmentation
+from .estimate import PlaneEstimate, camera_pose, estimate_plane, rectify
 from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get, methods
@@ -39,6 +40,10 @@ __all__ = [
     "Param",
     "MAX_SIDE",
     "memory_budget",
+    "estimate_plane",
+    "rectify",
+    "camera_pose",
+    "PlaneEstimate",
 ]
 
 __version__ = "0.1.0"

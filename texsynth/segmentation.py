@@ -18,7 +18,9 @@ Deviations, one line each:
 - the cosine is taken between centred feature vectors with one constant component ``contrast``
   (in Lab units) appended: a plain cosine of Lab vectors would call any two colours of one hue
   similar; centred without the constant, it would split even a uniform texture in two. With it,
-  two groups separate when their colours lie about 2 x ``contrast`` apart or more;
+  two groups separate when their colours lie about 2 x ``contrast`` apart or more; by default
+  the contrast is lowered from 6 to 3 to 2 Lab units until two classes or more appear (a
+  composite texture has at least two), so low-contrast mixtures are split too;
 - the centre is the mid-range (2nd and 98th percentiles), so it does not follow class proportions;
 - the greedy merge-then-move heuristic stands in for the approximation algorithm of the paper's
   reference [4];
@@ -39,7 +41,9 @@ __all__ = ["lab", "features", "partition", "segment", "labels_from_image", "labe
 #: Most classes a label map may have (the label texture's marks: texsynth.cliques.GOLOMB).
 MAX_CLASSES = 12
 SAMPLES = 400
-CONTRAST = 6.0
+#: 0 is automatic: the first of ``AUTO_CONTRASTS`` that finds two classes or more.
+CONTRAST = 0.0
+AUTO_CONTRASTS = (6.0, 3.0, 2.0)
 MIN_FRACTION = 0.02
 #: 5 x 5 Gaussian of the paper: sigma 1 truncated at 2 pixels.
 SIGMA, RADIUS = 1.0, 2
@@ -135,17 +139,26 @@ def segment(image, samples: int = SAMPLES, contrast: float = CONTRAST, texture: 
     """Labels int32 (H, W), 0..K-1 with K found by the partitioning, largest class first.
 
     ``image``: sRGB-encoded (H, W) or (H, W, C) in [0, 1]. ``samples``: vertices of the sample
-    graph. ``contrast``: the constant feature component (Lab units; larger merges more).
-    ``texture``: add the filter-bank features.
+    graph. ``contrast``: the constant feature component (Lab units; larger merges more; 0:
+    automatic, see the module notes). ``texture``: add the filter-bank features.
     """
     a = np.asarray(image, np.float32)
     a = a[:, :, None] if a.ndim == 2 else a
     if a.ndim != 3 or min(a.shape[:2]) < 4:
         raise ValueError(f"segmentation needs an (H, W) or (H, W, C) image, got {a.shape}")
-    if contrast <= 0:
-        raise ValueError(f"contrast must be positive, got {contrast}")
-    rng = np.random.default_rng(seed)
+    if not contrast >= 0:
+        raise ValueError(f"contrast must be positive (or 0: automatic), got {contrast}")
     f = features(a, texture)
+    for c in AUTO_CONTRASTS if contrast == 0 else (contrast,):
+        labels = _segment(f, samples, c, min_fraction, np.random.default_rng(seed))
+        if labels.max() > 0:
+            break
+    return labels
+
+
+def _segment(f: np.ndarray, samples: int, contrast: float, min_fraction: float,
+             rng: np.random.Generator) -> np.ndarray:
+    """:func:`segment` at one contrast, on the features ``f`` (H, W, F)."""
     h, w, k = f.shape
     flat = f.reshape(-1, k)
     lo, hi = np.percentile(flat, [2, 98], axis=0)

@@ -8,12 +8,6 @@ from scenes import fingerprint, generated_image, material_with, noise, pixels_of
 FAST = {"method": "MULTISCALE_MRF", "width": 40, "height": 32}
 
 
-def _levels_property():
-    """The operator's name for the MRF's ``levels`` (namespaced if another method has one)."""
-    props = bpy.ops.texsynth.synthesize_material.get_rna_type().properties
-    return "levels" if "levels" in props else "multiscale_mrf__levels"
-
-
 def _follower(tree, image, name, socket):
     node = tree.nodes.new("ShaderNodeTexImage")
     node.name = name
@@ -44,8 +38,7 @@ def _run(mode):
     original = bpy.context.active_object.active_material
     before = fingerprint()["materials"][original.name]
     images_before = set(bpy.data.images)
-    props = {**FAST, _levels_property(): 2}
-    assert bpy.ops.texsynth.synthesize_material(mode=mode, **props) == {"FINISHED"}
+    assert bpy.ops.texsynth.synthesize_material(mode=mode, levels=2, **FAST) == {"FINISHED"}
     made = {i.name: i for i in set(bpy.data.images) - images_before}
     copy = bpy.context.active_object.active_material
     assert copy != original

@@ -28,32 +28,68 @@ def test_the_zip_installs_the_operator_panel_and_settings(addon):
     methods = addon.texsynth.methods()
     assert [i.identifier for i in props["method"].enum_items] == [m.name.upper() for m in methods]
     for p in addon.texsynth.get_method("heeger_bergen").params:
-        assert props[p.name].default == p.default
-        assert getattr(bpy.context.scene.texsynth, p.name) == p.default
+        assert getattr(bpy.context.scene.texsynth.params.heeger_bergen, p.name) == p.default
     assert {"width", "height", "seed", "output", "output_dir", "source_image"} <= set(props.keys())
 
 
-def test_every_parameter_of_every_method_is_an_operator_property(addon):
+def test_every_parameter_of_every_method_is_one_operator_property_by_its_name(addon):
     props = bpy.ops.texsynth.synthesize.get_rna_type().properties
     kinds = {int: "INT", float: "FLOAT", bool: "BOOLEAN", str: "ENUM"}
     for method in addon.texsynth.methods():
-        for param, name in addon.operators.properties.param_properties(method):
-            prop = props[name]
-            assert prop.type == kinds[param.type]
+        for param in method.params:
+            prop = props[param.name]
+            assert prop.type == kinds[param.type], (method.name, param.name)
             if param.type is str:
-                assert [i.identifier for i in prop.enum_items] == list(param.choices)
-            assert prop.default == pytest.approx(param.default)
+                assert set(param.choices) <= {i.identifier for i in prop.enum_items}
+            elif param.type is not bool and param.min is not None:
+                assert prop.soft_min <= param.min and prop.soft_max >= param.max
+    assert not [name for name in props.keys() if "__" in name]  # nothing namespaced
 
 
-def test_parameters_are_namespaced_only_when_methods_declare_them_differently(addon,
-                                                                              monkeypatch):
+def test_each_method_keeps_its_own_values_starting_at_its_registry_defaults(addon):
+    params = bpy.context.scene.texsynth.params
+    for method in addon.texsynth.methods():
+        group = getattr(params, method.name)
+        for p in method.params:
+            assert getattr(group, p.name) == pytest.approx(p.default), (method.name, p.name)
+    mrf = addon.texsynth.get_method("multiscale_mrf").param("levels")
+    co = addon.texsynth.get_method("cooccurrence").param("levels")
+    assert mrf.default != co.default  # one name, two defaults: what this test is about
+    params.multiscale_mrf.levels = mrf.default + 1
+    assert (params.cooccurrence.levels, params.composite.levels) == (co.default, co.default)
+    params.cooccurrence.threshold = 0.5
+    assert params.de_bonet.threshold == pytest.approx(
+        addon.texsynth.get_method("de_bonet").param("threshold").default)
+    assert params.multiscale_mrf.levels == mrf.default + 1
+
+
+def test_the_operator_takes_the_chosen_methods_values_from_the_scene():
+    generated_image(noise(32, 32))
+    params = bpy.context.scene.texsynth.params
+    params.cooccurrence.levels = 0  # below cooccurrence's minimum, 4
+    fast_co = {"max_cliques": 4, "sweeps": 2}
+    synthesize(source_image="source", method="MULTISCALE_MRF", width=24, height=16)
+    with pytest.raises(RuntimeError, match="'levels' must be >= 4"):
+        bpy.ops.texsynth.synthesize(source_image="source", method="COOCCURRENCE", width=24,
+                                    height=16, **fast_co)
+    assert [i.name for i in bpy.data.images] == ["source", "source_multiscale_mrf_0"]
+    synthesize(source_image="source", method="COOCCURRENCE", width=24, height=16, levels=8,
+               **fast_co)
+
+
+def test_a_shared_parameter_name_is_one_property_covering_every_methods_spec(addon):
     core, properties = addon.texsynth, addon.operators.properties
-    mode = core.Param("mode", str, "x", "", choices=("x", "y"))
-    a = core.Method("a", "A", "", None, params=(core.Param("size", int, 3, "", 1, 9), mode))
-    b = core.Method("b", "B", "", None, params=(core.Param("size", float, 3.0, ""), mode))
-    monkeypatch.setattr(core, "methods", lambda: (a, b))
-    assert [name for _, name in properties.param_properties(a)] == ["a__size", "mode"]
-    assert [name for _, name in properties.param_properties(b)] == ["b__size", "mode"]
+    param = core.Param
+    a = core.Method("a", "A", "", None, params=(param("size", int, 3, "", 1, 9),
+                                                param("mode", str, "x", "", choices=("x", "y"))))
+    b = core.Method("b", "B", "", None, params=(param("size", int, 5, "", 2, 20),
+                                                param("mode", str, "y", "", choices=("y", "z"))))
+    merged = properties.shared_params((a, b))
+    assert (merged["size"].min, merged["size"].max, merged["size"].default) == (1, 20, 3)
+    assert merged["mode"].choices == ("x", "y", "z")
+    c = core.Method("c", "C", "", None, params=(param("size", float, 3.0, ""),))
+    with pytest.raises(ValueError, match="'size' is int in method 'a' but float in 'c'"):
+        properties.shared_params((a, b, c))
 
 
 def test_every_method_runs_from_the_operator(addon):
@@ -219,7 +255,8 @@ def test_unset_properties_come_from_the_scene_settings(call):
     source = generated_image(noise(32, 32))
     tree = material_with(source)
     settings = bpy.context.scene.texsynth
-    settings.width, settings.height, settings.iterations, settings.scales = 72, 40, 2, 2
+    settings.width, settings.height = 72, 40
+    settings.params.heeger_bergen.iterations = settings.params.heeger_bergen.scales = 2
     bpy.ops.texsynth.synthesize(call)
     assert tuple(tree.nodes.active.image.size) == (72, 40)
     bpy.ops.texsynth.synthesize(call, width=50)
@@ -234,19 +271,19 @@ def _wait(condition, seconds=60.0):
 
 
 def test_the_worker_thread_reports_progress_and_cancels(addon):
-    job_class = addon.operators.job.Job
-    job = job_class(noise(64, 64), 256, 256, "heeger_bergen", 0, {"iterations": 100})
+    job_class, run = addon.operators.job.Job, addon.texsynth.synthesize
+    job = job_class(run, noise(64, 64), 256, 256, iterations=100)
     job.start()
     _wait(lambda: job.fraction > 0 or job.done)
     job.cancel()
     _wait(lambda: job.done)
     assert job.cancelled and job.result is None and job.error is None
 
-    job = job_class(noise(32, 32), 40, 24, "heeger_bergen", 0, FAST)
+    job = job_class(run, noise(32, 32), 40, 24, **FAST)
     job.start()
     _wait(lambda: job.done)
     assert job.result.shape == (24, 40, 3) and job.fraction == 1.0
 
-    job = job_class(noise(32, 32), 0, 24, "heeger_bergen", 0, FAST)
+    job = job_class(run, noise(32, 32), 0, 24, **FAST)
     job.run()
     assert isinstance(job.error, ValueError) and job.result is None

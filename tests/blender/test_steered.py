@@ -18,7 +18,7 @@ def test_steered_and_joint_run_from_the_operator_and_change_the_texture():
 
 def test_the_panel_settings_reach_the_operator():
     source = generated_image(noise(40, 40))
-    settings = bpy.context.scene.texsynth
+    settings = bpy.context.scene.texsynth.params.heeger_bergen
     assert (settings.steered, settings.joint, settings.bins) == (False, False, 50)
     explicit = pixels_of(synthesize(source_image=source.name, width=32, height=32, steered=True,
                                     joint=True, bins=20, **FAST))

@@ -61,7 +61,8 @@ register(Method(
         Param("label_scale", int, 0, "Scale at which the label map is modelled (0: automatic)",
               0, 8),
         Param("contrast", float, CONTRAST, "Segmentation: colour difference (Lab) below which "
-              "regions join one class; larger gives fewer classes", 0.5, 100.0),
+              "regions join one class; larger gives fewer classes (0: automatic, the largest "
+              "of 6, 3, 2 that finds two classes)", 0.0, 100.0),
         Param("texture_features", bool, False, "Segmentation: add filter-bank texture features "
               "to the colour"),
     ),

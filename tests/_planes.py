@@ -1,0 +1,62 @@
+"""Photos of textured planes with known geometry, rendered from first principles.
+
+A camera ray meets the plane; the plane point indexes an isotropic noise texture. Nothing of
+texsynth.estimate is used, so its conventions (tilt counter-clockwise from +x with y up, towards
+where depth grows; camera looking along -z) are checked by the tests that use these photos.
+"""
+
+import math
+
+import numpy as np
+import scipy.ndimage as ndi
+
+from texsynth import estimate
+
+SIZE = 256
+
+
+def noise_texture(seed=0, n=512, band=(0.03, 0.2)):
+    """Isotropic band-pass noise, periodic, prefiltered for cubic interpolation."""
+    rng = np.random.default_rng(seed)
+    f = np.hypot(np.fft.fftfreq(n)[:, None], np.fft.fftfreq(n)[None, :])
+    mask = (f >= band[0]) & (f <= band[1])
+    t = np.fft.ifft2(np.fft.fft2(rng.standard_normal((n, n))) * mask / np.maximum(f, 1e-9)).real
+    return ndi.spline_filter(t / t.std() * 0.15, order=3, mode="grid-wrap")
+
+
+def photograph(texture, slant, tilt, focal=None, size=SIZE, supersample=2):
+    """A size x size view of the textured plane; focal None: orthographic."""
+    n = np.array([math.sin(math.radians(slant)) * math.cos(math.radians(tilt)),
+                  math.sin(math.radians(slant)) * math.sin(math.radians(tilt)),
+                  math.cos(math.radians(slant))])
+    e1 = np.cross([0.3, 0.5, 0.8], n)  # any basis of the plane: the texture is isotropic
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    depth = 1.0 if focal is None else float(focal)  # plane units per pixel at the centre: 1
+    out = np.zeros((size, size))
+    offsets = (np.arange(supersample) + 0.5) / supersample - 0.5
+    for dy in offsets:
+        for dx in offsets:
+            rows, cols = np.mgrid[0:size, 0:size].astype(float)
+            x = cols + dx - (size - 1) / 2
+            y = (size - 1) / 2 - (rows + dy)
+            if focal is None:  # rays along -z through (x, y): the plane point above it
+                point = np.stack([x, y, -depth - (n[0] * x + n[1] * y) / n[2]], -1)
+            else:
+                ray = np.stack([x, y, -np.full_like(x, focal)], -1)
+                t = (-depth * n[2]) / (ray @ n)
+                point = ray * t[..., None]
+            point = point - np.array([0.0, 0.0, -depth])
+            u, v = point @ e1, point @ e2
+            out += ndi.map_coordinates(texture, [v, u], order=3, mode="grid-wrap",
+                                       prefilter=False)
+    return (out / supersample ** 2 + 0.5).astype(np.float32)
+
+
+def normal_error(a, b, mod180=False):
+    na, nb = estimate.normal_from_angles(*a), estimate.normal_from_angles(*b)
+    error = math.degrees(math.acos(min(1.0, float(na @ nb))))
+    if mod180:
+        flipped = estimate.normal_from_angles(b[0], b[1] + 180.0)
+        error = min(error, math.degrees(math.acos(min(1.0, float(na @ flipped)))))
+    return error

@@ -1,0 +1,163 @@
+"""Estimate Plane, Align Camera and Rectify headless: results land in the scene, and a failed
+run changes nothing."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+from mathutils import Vector
+from scenes import fingerprint, generated_image, material_with
+
+from tests._planes import noise_texture, photograph
+from texsynth import estimate
+
+SLANT, TILT, FOCAL = 50.0, 120.0, 280.0
+
+
+@pytest.fixture(scope="module")
+def photo_pixels():
+    return photograph(noise_texture(n=256), SLANT, TILT, FOCAL, supersample=1)[:, :, None]
+
+
+def _photo(pixels):
+    return generated_image(np.clip(pixels, 0, 1), name="photo")
+
+
+def _stored(scene, slant=SLANT, tilt=TILT, focal=FOCAL, image="photo"):
+    settings = scene.texsynth.plane
+    settings.has_estimate = True
+    settings.image = image
+    settings.image_width = settings.image_height = 256
+    settings.slant, settings.tilt = math.radians(slant), math.radians(tilt)
+    settings.focal_px = focal
+    return settings
+
+
+def test_estimate_plane_stores_the_orientation(photo_pixels):
+    _photo(photo_pixels)
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    camera.data.sensor_fit = "AUTO"
+    camera.data.lens = FOCAL * camera.data.sensor_width / 256
+    scene.texsynth.plane.use_camera_focal = True
+    assert bpy.ops.texsynth.estimate_plane(image="photo") == {"FINISHED"}
+    settings = scene.texsynth.plane
+    assert settings.has_estimate and settings.image == "photo"
+    assert settings.focal_px == pytest.approx(FOCAL, rel=1e-4)
+    got = (math.degrees(settings.slant), math.degrees(settings.tilt))
+    n_true, n_got = estimate.normal_from_angles(SLANT, TILT), estimate.normal_from_angles(*got)
+    assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 5.0
+    assert 0.0 < settings.confidence <= 1.0
+    assert not settings.tilt_ambiguous
+
+
+def test_align_camera_poses_a_new_camera_on_the_active_plane(photo_pixels):
+    _photo(photo_pixels)
+    tree = material_with(bpy.data.images["photo"])
+    plane = bpy.context.active_object
+    plane.location = (1.0, 2.0, 0.5)
+    plane.rotation_euler = (0.3, 0.0, 1.0)
+    assert tree is not None and bpy.context.scene.camera is None
+    settings = _stored(bpy.context.scene)
+    settings.add_background = True
+    assert bpy.ops.texsynth.align_camera() == {"FINISHED"}
+    scene = bpy.context.scene
+    camera = scene.camera
+    assert camera is not None and camera.data.type == "PERSP"
+    rotation = np.array(camera.matrix_world.to_3x3())
+    normal = np.array(plane.matrix_world.to_3x3().normalized().col[2])
+    slant, tilt = estimate.angles_from_normal(rotation.T @ normal)
+    assert slant == pytest.approx(SLANT, abs=1e-3) and tilt == pytest.approx(TILT, abs=1e-3)
+    to_plane = plane.matrix_world.translation - camera.matrix_world.translation
+    assert (camera.matrix_world.to_3x3().inverted() @ to_plane).normalized().z == \
+        pytest.approx(-1.0, abs=1e-6)
+    focal_px = estimate.focal_px_from_lens(camera.data.lens, camera.data.sensor_width, 256, 256)
+    assert focal_px == pytest.approx(FOCAL, rel=1e-5)
+    assert (scene.render.resolution_x, scene.render.resolution_y) == (256, 256)
+    assert [b.image.name for b in camera.data.background_images] == ["photo"]
+
+
+def test_align_camera_keeps_an_existing_cameras_distance():
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    camera.location = (0.0, -3.0, 4.0)
+    settings = _stored(scene, focal=0.0)
+    settings.add_background = False
+    assert bpy.ops.texsynth.align_camera() == {"FINISHED"}
+    assert set(bpy.data.objects) == {camera}
+    assert camera.matrix_world.translation.length == pytest.approx(5.0)
+    forward = camera.matrix_world.to_3x3() @ Vector((0, 0, -1))
+    assert forward.angle(-camera.matrix_world.translation) == pytest.approx(0.0, abs=1e-6)
+
+
+def test_rectify_makes_a_new_frontal_image(photo_pixels):
+    image = _photo(photo_pixels)
+    before = np.array(image.pixels[:])
+    _stored(bpy.context.scene)
+    assert bpy.ops.texsynth.rectify() == {"FINISHED"}
+    settings = bpy.context.scene.texsynth.plane
+    rectified = bpy.data.images[settings.rectified]
+    assert rectified.name.startswith("photo_rectified") and rectified != image
+    width, height = rectified.size
+    assert min(width, height) >= 48
+    np.testing.assert_array_equal(np.array(image.pixels[:]), before)
+    values = np.array(rectified.pixels[:]).reshape(height, width, 4)[:, :, 0]
+    assert estimate.estimate_plane(values, method="moments").slant < 30.0  # frontal: 13-20
+
+
+def _blank(pixels):
+    generated_image(np.full((96, 96, 3), 0.5, np.float32), name="photo")
+
+
+def _no_camera(pixels):
+    _photo(pixels)
+    bpy.context.scene.texsynth.plane.use_camera_focal = True
+
+
+def _no_estimate(pixels):
+    _photo(pixels)
+
+
+def _estimate_for_a_deleted_photo(pixels):
+    _stored(bpy.context.scene, image="gone")
+
+
+CASES = {
+    "estimate: unknown image": (lambda p: None, "estimate_plane", {"image": "nope"},
+                                "No image named 'nope'"),
+    "estimate: no photo at all": (lambda p: None, "estimate_plane", {}, "No photo"),
+    "estimate: blank photo": (_blank, "estimate_plane", {"image": "photo"}, "no texture"),
+    "estimate: camera focal without camera": (_no_camera, "estimate_plane", {"image": "photo"},
+                                              "no camera"),
+    "align: no estimate": (_no_estimate, "align_camera", {}, "No plane estimate"),
+    "align: background photo gone": (_estimate_for_a_deleted_photo, "align_camera", {},
+                                     "is gone"),
+    "rectify: no estimate": (_no_estimate, "rectify", {}, "No plane estimate"),
+    "rectify: photo gone": (_estimate_for_a_deleted_photo, "rectify", {}, "No image named"),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_failures_are_reported_and_change_nothing(photo_pixels, case):
+    setup, operator, properties, message = CASES[case]
+    setup(photo_pixels)
+    scene = bpy.context.scene
+    before = fingerprint(), _values(scene.texsynth.plane), scene.camera
+    with pytest.raises(RuntimeError, match=message):
+        getattr(bpy.ops.texsynth, operator)(**properties)
+    assert (fingerprint(), _values(scene.texsynth.plane), scene.camera) == before
+
+
+def _values(settings):
+    return {name: getattr(settings, name) for name in settings.bl_rna.properties.keys()
+            if name != "rna_type"}
+
+
+def test_panels_are_registered():
+    assert hasattr(bpy.types, "TEXSYNTH_PT_plane_image")
+    assert hasattr(bpy.types, "TEXSYNTH_PT_plane_view3d")
