@@ -302,24 +302,25 @@ def draw_plane(layout, context, in_image_editor: bool) -> None:
         op.source_image = settings.rectified
 
 
-class TEXSYNTH_PT_plane_image(bpy.types.Panel):
+class PlanePanel:
+    """Mixin of the two sidebar panels; ``in_image_editor``: the photo is the editor's image."""
+
     bl_label = "Plane from Texture"
+    bl_region_type = "UI"
+    bl_category = "TexSynth"
+    in_image_editor = False
+
+    def draw(self, context):
+        draw_plane(self.layout, context, self.in_image_editor)
+
+
+class TEXSYNTH_PT_plane_image(PlanePanel, bpy.types.Panel):
     bl_space_type = "IMAGE_EDITOR"
-    bl_region_type = "UI"
-    bl_category = "TexSynth"
-
-    def draw(self, context):
-        draw_plane(self.layout, context, True)
+    in_image_editor = True
 
 
-class TEXSYNTH_PT_plane_view3d(bpy.types.Panel):
-    bl_label = "Plane from Texture"
+class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
     bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "TexSynth"
-
-    def draw(self, context):
-        draw_plane(self.layout, context, False)
 
 
 classes = (TEXSYNTH_PG_plane, TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_align_camera,

@@ -47,6 +47,7 @@ def run(ctx) -> str:
     times = {name: {} for name, *_ in entries}  # texture -> seconds, for same-texture ratios
     quality = {name: [] for name, *_ in entries}
     natural = []
+    sheets = {}  # texture name -> the contact sheet's path for the markdown
     for texture in ctx.textures:
         exemplar = _crop(texture.image, side)
         natural.append(metrics.self_distance(exemplar))
@@ -69,8 +70,9 @@ def run(ctx) -> str:
                                   **metrics.quality(exemplar, output)})
             outputs.append(output)
         tiles = [None] + [None if o is None else np.tile(o, (2, 2, 1)) for o in outputs]
-        ctx.contact_sheet(f"sheet_{texture.short}.png", ["exemplar"] + [n for n, *_ in entries],
-                          [[exemplar] + outputs, tiles], cell=128 if ctx.quick else 96)
+        sheets[texture.name] = ctx.contact_sheet(
+            f"sheet_{texture.short}.png", ["exemplar"] + [n for n, *_ in entries],
+            [[exemplar] + outputs, tiles], cell=128 if ctx.quick else 96)
 
     lines = [
         f"Each exemplar is the central {side} x {side} crop of the texture; every method (its "
@@ -140,6 +142,6 @@ def run(ctx) -> str:
               "Columns: exemplar, then " + ", ".join(label for _, label, *_ in entries)
               + f". Top row: the outputs; bottom row: each output tiled 2 x 2, where seams and "
               f"repetition show; shrunk to fit {128 if ctx.quick else 96} px cells.", ""]
-    lines += [f"**{t.name}** ({t.category}, {t.license})\n\n![{t.short}](img/sheet_{t.short}.png)\n"
+    lines += [f"**{t.name}** ({t.category}, {t.license})\n\n![{t.short}]({sheets[t.name]})\n"
               for t in ctx.textures]
     return "\n".join(lines)
