@@ -99,7 +99,6 @@ def main() -> None:
         "",
     ]
     out = docs / "BENCHMARKS.md"
-    kept = _sections_of(out.read_text()) if args.only is not None and out.exists() else {}
     run_start = time.perf_counter()
     done = {}
     for module in sections():
@@ -113,11 +112,18 @@ def main() -> None:
             f"*Section time: {time.perf_counter() - start:.0f} s; run "
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load average {load:.1f} at "
             "its start.*", ""])
-        out.write_text(_document(parts, kept, done) + "*(run in progress)*\n")  # if interrupted
+        out.write_text(_document(parts, _kept(out, args.only), done)
+                       + "*(run in progress)*\n")  # kept if interrupted
     minutes = (time.perf_counter() - run_start) / 60
     footer = f"*Whole run: {minutes:.1f} min.*" if args.only is None else ""
-    out.write_text(_document(parts, kept, done) + footer + "\n")
+    out.write_text(_document(parts, _kept(out, args.only), done) + footer + "\n")
     print(f"wrote {out}")
+
+
+def _kept(out: Path, only) -> dict[str, str]:
+    """With ``--only``, the other sections as the file holds them now (read at every write, so
+    that runs of different sections at the same time do not undo each other)."""
+    return _sections_of(out.read_text()) if only is not None and out.exists() else {}
 
 
 def _sections_of(text: str) -> dict[str, str]:

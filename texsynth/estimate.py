@@ -34,7 +34,9 @@ Deviations from the section, one line each:
 - isotropy is the spread of *log* energy across orientations, each scale weighted alike (natural
   spectra fall as 1/f, energy weights would keep only the coarsest scale);
 - homogeneity is the spread of log energy of each oriented band across windows, which needs no
-  texel detection (the section's marked Poisson process reasoning, applied to filter energies).
+  texel detection (the section's marked Poisson process reasoning, applied to filter energies);
+- a slant found by isotropy is uncertain by at least the change that costs as much isotropy as the
+  texture's own remaining anisotropy (the assumption's failure is an error, not noise).
 """
 
 from __future__ import annotations
@@ -258,12 +260,13 @@ def _downsample(lum: np.ndarray) -> tuple[np.ndarray, int]:
 
 
 def texture_mask(lum: np.ndarray) -> np.ndarray:
-    """Pixels with texture: local band-pass RMS above a twentieth of its 90th percentile, and
-    the same for the standard deviation in 7 x 7 windows.
+    """Pixels with texture: local band-pass RMS above a twentieth of its 90th percentile, outside
+    large flat regions.
 
     Black borders, blown-out areas and smooth sky fall below; ``ValueError`` if nothing has texture.
-    The band-pass leaks some 30 pixels into a flat region from its edge; the 7 x 7 deviation cuts
-    that to 3, and the mask is eroded by those 3.
+    The band-pass leaks some 30 pixels into a flat region from its edge, so flat regions (7 x 7
+    standard deviation under a twentieth of its 90th percentile) that hold a 31 x 31 square are
+    cut out whole, with a 3-pixel margin; thinner flat parts of a texture (mortar) stay in.
     """
     band = ndi.gaussian_filter(lum, 1.0, mode="reflect") - ndi.gaussian_filter(lum, 8.0,
                                                                                 mode="reflect")
@@ -274,8 +277,10 @@ def texture_mask(lum: np.ndarray) -> np.ndarray:
         raise ValueError("image has no texture (it is blank or nearly constant)")
     mean = ndi.uniform_filter(lum, 7, mode="reflect")
     fine = np.sqrt(np.maximum(ndi.uniform_filter(lum * lum, 7, mode="reflect") - mean * mean, 0))
-    textured = (local > 0.05 * ref) & (fine > 0.05 * float(np.percentile(fine, 90)))
-    return ndi.uniform_filter(textured.astype(np.float32), 7, mode="nearest") > 0.999
+    flat = (fine <= 0.05 * float(np.percentile(fine, 90))).astype(np.float32)
+    square = (ndi.uniform_filter(flat, 31, mode="nearest") > 0.999).astype(np.float32)
+    large_flat = ndi.uniform_filter(square, 37, mode="constant") > 0  # the squares, grown by 3
+    return (local > 0.05 * ref) & ~large_flat
 
 
 @dataclass(frozen=True)
@@ -425,7 +430,7 @@ class _Criterion:
 
 # --- search -----------------------------------------------------------------------------------
 
-_WINDOW = 96         # analysis window side (pixels of the reduced image)
+_WINDOW = 64         # analysis window side (reduced image px): many windows sample the depth
 _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist is 0.5)
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
@@ -478,13 +483,15 @@ def _noise(raw: float, dof: int) -> float:
     return raw * math.sqrt(2.0 * _NOISE_K / max(dof, 1))
 
 
-def _covariance(fun, x, step, raw: float, dof: int) -> np.ndarray:
+def _covariance(fun, x, step, raw: float, dof: int, model: float = 0.0) -> np.ndarray:
     """Covariance of the minimiser x of ``fun`` (a variance of log energies): Gauss-Newton,
-    cov = 2 s^2 / dof_eff * H^-1 with s^2 the raw residual variance."""
+    cov = 2 (s^2 / dof_eff + e) H^-1 with s^2 the raw residual variance and e the criterion's
+    remaining value where it rests on an assumption the texture can break (its own anisotropy:
+    a shift of x that costs that much is as plausible as the fit)."""
     hess = _hessian(fun, np.asarray(x, dtype=np.float64), np.asarray(step, dtype=np.float64))
     values, vectors = np.linalg.eigh(hess)
     values = np.maximum(values, 1e-12)  # flat directions: unbounded uncertainty
-    return (vectors / values) @ vectors.T * 2.0 * raw * _NOISE_K / max(dof, 1)
+    return (vectors / values) @ vectors.T * 2.0 * (raw * _NOISE_K / max(dof, 1) + model)
 
 
 def _angles_cost(cost, v_of_p):
@@ -542,7 +549,8 @@ def _fit_isotropy(crit: _Criterion) -> _Fit:
     fit = _minimize(cost, _grid_starts(cost, 180.0), 0.1)
     _, raw, dof = crit.isotropy(fit.x, zero)
     st = _angles_from_gradient(fit.x)
-    cov = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof)
+    cov = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
+                      max(fit.fun, 0.0))
     return _Fit(fit.x, None, cov, True, True)
 
 
@@ -603,7 +611,8 @@ def _fit_unknown_focal(crit: _Criterion, f_ref: float) -> _Fit:
     _, iraw, idof = iso.isotropy(p, v)
     curvature = _hessian(lambda x: np.array(slant_cost(x[0])), np.array([slant]),
                          np.array([1.5]))[0, 0]
-    var_slant = 2.0 * iraw * _NOISE_K / max(idof, 1) / max(curvature, 1e-12)
+    var_slant = 2.0 * (iraw * _NOISE_K / max(idof, 1) + max(best.fun, 0.0)) / max(curvature,
+                                                                                 1e-12)
     cov_v = _covariance(_angles_cost(crit.homogeneity, lambda x: x / f_ref),
                         _angles_from_gradient(q), (1.5, 3.0), raw, dof)
     cov = np.diag([var_slant, cov_v[1, 1]])
