@@ -5,6 +5,9 @@ texsynth.estimate's own maps, so the conventions are checked too.
 """
 
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -188,3 +191,27 @@ def test_public_names():
     assert texsynth.estimate_plane is estimate.estimate_plane
     assert texsynth.rectify is estimate.rectify
     assert texsynth.camera_pose is estimate.camera_pose
+
+
+def test_the_rectify_example_writes_the_frontal_photo_and_a_seamless_texture(texture, tmp_path):
+    from texsynth import io, metrics
+
+    photo_path = tmp_path / "floor.png"
+    io.write_png(photo_path, np.repeat(photograph(texture, 45.0, 250.0, 300.0)[:, :, None], 3, 2))
+    script = Path(__file__).resolve().parents[1] / "examples" / "rectify_photo.py"
+    run = subprocess.run([sys.executable, str(script), str(photo_path), "--focal-px", "300",
+                          "--width", "96", "--height", "64", "--out", str(tmp_path / "out")],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    slant = float(run.stdout.split("slant ")[1].split(" deg")[0])
+    assert abs(slant - 45.0) < 5.0
+    frontal = io.read_png(tmp_path / "out" / "floor_rectified.png")
+    texture_out = io.read_png(tmp_path / "out" / "floor_heeger_bergen_0.png")
+    assert min(frontal.shape[:2]) >= 48 and texture_out.shape == (64, 96, 3)
+    assert metrics.seam_ratio(texture_out) < 1.3
+    blank = tmp_path / "blank.png"
+    io.write_png(blank, np.full((80, 80, 3), 0.5, np.float32))
+    run = subprocess.run([sys.executable, str(script), str(blank), "--out", str(tmp_path / "b")],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 2 and "no texture" in run.stderr
+    assert not (tmp_path / "b").exists()
