@@ -109,7 +109,7 @@ def main() -> None:
         body = module.run(ctx)
         done[module.TITLE] = "\n".join([
             f"## {module.TITLE}", "", body.strip(), "",
-            f"*Section time: {time.perf_counter() - start:.0f} s; run "
+            f"*Section time: {time.perf_counter() - start:.0f} s; finished "
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load average {load:.1f} at "
             "its start.*", ""])
         out.write_text(_document(parts, _kept(out, args.only), done)
