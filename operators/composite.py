@@ -10,7 +10,7 @@
   painted image (``output_labels``) whose size is then the output's and whose colours are the
   label image's (or the segmentation palette's).
 
-The image choices are kept per scene in ``scene.texsynth_composite``; the composite method's
+The image choices are kept per scene in ``scene.texsynth.composite``; the composite method's
 parameters are the panel's (``scene.texsynth.params.composite``), and so are size, seed and
 output (``scene.texsynth``). Everything is checked before anything is made; on error or cancel
 the file is unchanged.
@@ -71,7 +71,7 @@ class TEXSYNTH_OT_segment(bpy.types.Operator):
             return {"CANCELLED"}
         stem = f"{bpy.path.clean_name(image.name.rsplit('.', 1)[0])}_labels"
         made = _labels_image(stem, labels)
-        context.scene.texsynth_composite.label_image = made
+        context.scene.texsynth.composite.label_image = made
         self.report({"INFO"}, f"'{made.name}': {int(labels.max()) + 1} classes")
         return {"FINISHED"}
 
@@ -97,7 +97,7 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
         """Check the input and copy the images out of Blender; raises ``ValueError``."""
         method = texsynth.get_method(METHOD)
         properties.fill_unset(self, context.scene.texsynth, method)
-        chosen = context.scene.texsynth_composite
+        chosen = context.scene.texsynth.composite
         src = source.find_source(context, self.source_image)
         image = bpy.data.images[src.image]
         exemplar, encoding = pixels.read_exemplar(image)
@@ -150,7 +150,7 @@ class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        chosen = context.scene.texsynth_composite
+        chosen = context.scene.texsynth.composite
         layout.template_ID(chosen, "label_image", open="image.open")
         layout.operator(TEXSYNTH_OT_segment.bl_idname, icon="IMAGE_RGB")
         layout.template_ID(chosen, "output_labels", open="image.open")
@@ -181,10 +181,11 @@ def register():
     TEXSYNTH_OT_synthesize_composite.__annotations__ = annotations
     for cls in classes:
         bpy.utils.register_class(cls)
-    bpy.types.Scene.texsynth_composite = bpy.props.PointerProperty(type=TEXSYNTH_PG_composite)
+    properties.TEXSYNTH_PG_settings.composite = bpy.props.PointerProperty(
+        type=TEXSYNTH_PG_composite)
 
 
 def unregister():
-    del bpy.types.Scene.texsynth_composite
+    del properties.TEXSYNTH_PG_settings.composite
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

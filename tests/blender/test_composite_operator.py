@@ -27,7 +27,7 @@ def test_segmentation_is_shown_as_a_new_image_and_becomes_the_label_source():
     assert tuple(made.size) == (40, 40)
     colours = np.unique(pixels_of(made)[:, :, :3].reshape(-1, 3), axis=0)
     assert len(colours) == 2
-    assert bpy.context.scene.texsynth_composite.label_image == made
+    assert bpy.context.scene.texsynth.composite.label_image == made
     np.testing.assert_array_equal(pixels_of(source), before)
 
 
