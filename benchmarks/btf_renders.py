@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import map_coordinates
 
+from benchmarks.cycles import cpu_scene
+
 __all__ = ["rectified_views", "GRID"]
 
 GRID = 96  # frontal pixels across the plane, which spans [-1, 1]^2 in world units
@@ -22,15 +24,7 @@ PX = GRID / 2.0  # pixels per world unit
 def _scene(albedo, height):
     import bpy
 
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 4
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x = scene.render.resolution_y = RES
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = 1
-    scene.view_settings.view_transform = "Standard"
+    scene = cpu_scene(4, RES, RES)
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=2 * GRID, y_subdivisions=2 * GRID, size=2.0)
     plane = bpy.context.active_object
     co = np.empty(len(plane.data.vertices) * 3, np.float32)
@@ -91,9 +85,7 @@ def rectified_views(albedo, height, world_dirs, folder) -> tuple[np.ndarray, np.
     direction of ``world_dirs`` (towards the camera) into ``folder``; returns the rectified
     stack (V, GRID, GRID) and the directions in image axes (x right, y down, z up) for
     ``texsynth.btf.align``. Resets the current Blender file."""
-    import bpy
 
-    bpy.ops.wm.read_homefile(use_empty=True)
     scene, camera = _scene(albedo, height)
     stack = np.stack([_render_rectified(scene, camera, d, Path(folder) / f"view{k}.png")
                       for k, d in enumerate(world_dirs)])

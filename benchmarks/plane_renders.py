@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks.cycles import cpu_scene
 from texsynth import estimate
 from texsynth.io import read_png, srgb_to_linear
 from texsynth.periodic import periodic_component
@@ -119,20 +120,9 @@ def _render(views, textures, threads, progress) -> None:
     import bpy
     from mathutils import Matrix
 
-    bpy.ops.wm.read_homefile(use_empty=True)
-    bpy.ops.preferences.addon_enable(module="cycles")
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = SAMPLES
+    scene = cpu_scene(SAMPLES, WIDTH, HEIGHT, threads)
     scene.cycles.use_adaptive_sampling = False
-    scene.cycles.use_denoising = False
     scene.cycles.max_bounces = 0
-    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = threads
-    scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "PNG"
     scene.render.image_settings.color_depth = "8"
     scene.render.image_settings.color_mode = "RGB"

@@ -162,6 +162,7 @@ class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
 
 classes = (TEXSYNTH_PG_composite, TEXSYNTH_OT_segment, TEXSYNTH_OT_synthesize_composite,
            TEXSYNTH_PT_composite)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
@@ -179,13 +180,11 @@ def register():
             description="Name of a painted output label map; empty: the panel's choice, "
                         "else synthesized"))
     TEXSYNTH_OT_synthesize_composite.__annotations__ = annotations
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    register_classes()
     properties.TEXSYNTH_PG_settings.composite = bpy.props.PointerProperty(
         type=TEXSYNTH_PG_composite)
 
 
 def unregister():
     del properties.TEXSYNTH_PG_settings.composite
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    unregister_classes()

@@ -325,15 +325,14 @@ class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
 
 classes = (TEXSYNTH_PG_plane, TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_align_camera,
            TEXSYNTH_OT_rectify, TEXSYNTH_PT_plane_image, TEXSYNTH_PT_plane_view3d)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    register_classes()
     properties.TEXSYNTH_PG_settings.plane = bpy.props.PointerProperty(type=TEXSYNTH_PG_plane)
 
 
 def unregister():
     del properties.TEXSYNTH_PG_settings.plane
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    unregister_classes()

@@ -99,14 +99,12 @@ class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):
 
 
 classes = (TEXSYNTH_OT_synthesize_material, TEXSYNTH_PT_material)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
     TEXSYNTH_OT_synthesize_material.__annotations__.update(properties.operator_annotations())
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    register_classes()
 
 
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+unregister = unregister_classes

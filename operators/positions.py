@@ -83,14 +83,12 @@ class TEXSYNTH_PT_maps(SidebarPanel, bpy.types.Panel):
 
 
 classes = (TEXSYNTH_OT_synthesize_maps, TEXSYNTH_PT_maps)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
     TEXSYNTH_OT_synthesize_maps.__annotations__ = properties.operator_annotations()
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    register_classes()
 
 
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+unregister = unregister_classes

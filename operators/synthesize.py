@@ -57,14 +57,12 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
 
 
 classes = (TEXSYNTH_OT_synthesize,)
+register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
     TEXSYNTH_OT_synthesize.__annotations__.update(properties.operator_annotations())
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    register_classes()
 
 
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+unregister = unregister_classes

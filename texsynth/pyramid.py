@@ -35,6 +35,12 @@ def max_scales(shape: tuple[int, int]) -> int:
     return max(0, int(math.floor(math.log2(min(shape)))) - 2)
 
 
+def _check_scales(shape: tuple[int, int], scales: int) -> None:
+    if not 0 <= scales <= max_scales(shape):
+        raise ValueError(f"an image of {shape[1]} x {shape[0]} supports at most "
+                         f"{max_scales(shape)} scales, {scales} were asked for")
+
+
 def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int]):
     """Radius (cycles per full-resolution pixel, Nyquist = 1) and angle on a level's rfft grid."""
     h, w = shape_level
@@ -92,11 +98,7 @@ class SteerablePyramid:
     def __init__(self, shape: tuple[int, int], scales: int = 4, orientations: int = 4):
         if not 1 <= orientations <= 16:
             raise ValueError(f"orientations must be 1..16, got {orientations}")
-        if not 0 <= scales <= max_scales(shape):
-            raise ValueError(
-                f"an image of {shape[1]} x {shape[0]} supports at most {max_scales(shape)} scales,"
-                f" {scales} were asked for"
-            )
+        _check_scales(shape, scales)
         self.shape = tuple(shape)
         self.scales = scales
         self.orientations = orientations
@@ -193,11 +195,7 @@ class LaplacianPyramid:
     """
 
     def __init__(self, shape: tuple[int, int], scales: int = 4):
-        if not 0 <= scales <= max_scales(shape):
-            raise ValueError(
-                f"an image of {shape[1]} x {shape[0]} supports at most {max_scales(shape)} scales,"
-                f" {scales} were asked for"
-            )
+        _check_scales(shape, scales)
         self.shape = tuple(shape)
         self.scales = scales
         self.level_shapes = [self.shape]

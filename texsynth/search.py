@@ -30,6 +30,7 @@ __all__ = [
     "PatchMatrix",
     "sample_near_best",
     "sparse_subset",
+    "best_candidate",
     "Rows",
 ]
 
@@ -232,6 +233,27 @@ def sample_near_best(d: np.ndarray, epsilon: float, rng: np.random.Generator,
     ok = d <= ((1.0 + epsilon) * best + tolerance)[:, None]
     rows, cols = np.divmod(np.flatnonzero(ok), d.shape[1])
     return cols[_uniform_pick(rows, len(d), rng)], best
+
+
+def best_candidate(table: Rows, cand: np.ndarray, z: np.ndarray, current: np.ndarray,
+                   none: int) -> np.ndarray:
+    """Per output pixel, the candidate exemplar position with the least distance ``table[p] . z``
+    where it beats ``current`` (else ``current``): the candidate step of the MRF samplers.
+
+    ``cand`` (B, M) holds candidate rows of ``table`` with ``none`` for "no candidate"; duplicates
+    are scored once, and columns no pixel needs are dropped before the gather.
+    """
+    b = len(cand)
+    cand.sort(axis=1)
+    cand[:, 1:][cand[:, 1:] == cand[:, :-1]] = none
+    cand.sort(axis=1)
+    cand = cand[:, :max(1, int((cand < none).sum(axis=1).max()))]
+    d = np.einsum("buk,bk->bu", table[cand], z)
+    d[cand == none] = np.inf
+    pick = d.argmin(axis=1)
+    best = d[np.arange(b), pick]
+    d_current = np.einsum("bk,bk->b", table[current], z)
+    return np.where(best < d_current, cand[np.arange(b), pick], current)
 
 
 def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Generator):

@@ -35,7 +35,7 @@ import numpy as np
 from .positions import apply_positions
 from .progress import Progress
 from .registry import get
-from .search import Rows, disk_offsets, exemplar_neighbours
+from .search import Rows, best_candidate, disk_offsets, exemplar_neighbours
 
 __all__ = ["synthesize_stack", "validate_stack", "C_SUPPORT"]
 
@@ -247,17 +247,7 @@ class _GuidedLevel:
             self._continue(pa[:, 1:], np.ones_like(w_b, bool)),  # the support's neighbours
             extra,
         ], axis=1)
-        cand.sort(axis=1)
-        cand[:, 1:][cand[:, 1:] == cand[:, :-1]] = none
-        cand.sort(axis=1)
-        cand = cand[:, :max(1, int((cand < none).sum(axis=1).max()))]
-
-        d = np.einsum("buk,bk->bu", self.table[cand], z)
-        d[cand == none] = np.inf
-        pick = d.argmin(axis=1)
-        best = d[np.arange(b), pick]
-        d_current = np.einsum("bk,bk->b", self.table[current], z)
-        return np.where(best < d_current, cand[np.arange(b), pick], current)
+        return best_candidate(self.table, cand, z, current, none)
 
 
 def guided_mrf(in_a, in_b, out_a, positions_a, rng, progress, c=C_SUPPORT, radius=3, visits=4,

@@ -13,6 +13,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 
 import texsynth
+from benchmarks.cycles import cpu_scene
 from texsynth import btf
 from texsynth.metrics import luminance, seam_ratio
 
@@ -62,16 +63,7 @@ def _render(material_maps, side):
 
     from texsynth.io import read_png
 
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 16
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x = scene.render.resolution_y = side
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = 1
-    scene.view_settings.view_transform = "Standard"
+    scene = cpu_scene(16, side, side)
     bpy.ops.mesh.primitive_plane_add(size=2.0)
     plane = bpy.context.active_object
     material = bpy.data.materials.new("pbr")

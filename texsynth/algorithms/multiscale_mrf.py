@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..registry import Method, Param, register
-from ..search import Rows, disk_offsets, exemplar_neighbours
+from ..search import Rows, best_candidate, disk_offsets, exemplar_neighbours
 
 __all__ = ["multiscale_mrf", "level_count"]
 
@@ -122,17 +122,7 @@ class _Level:
             ok = (pr >= 0) & (pr < h) & (pc >= 0) & (pc < w) & (nw > 0)
             cand = np.where(ok, pr * w + pc, none)
         cand = np.concatenate([cand, extra], axis=1)
-        cand.sort(axis=1)
-        cand[:, 1:][cand[:, 1:] == cand[:, :-1]] = none
-        cand.sort(axis=1)
-        cand = cand[:, :max(1, int((cand < none).sum(axis=1).max()))]
-
-        d = np.einsum("buk,bk->bu", self.table[cand], z)
-        d[cand == none] = np.inf
-        pick = d.argmin(axis=1)
-        best = d[np.arange(b), pick]
-        d_current = np.einsum("bk,bk->b", self.table[current], z)
-        return np.where(best < d_current, cand[np.arange(b), pick], current)
+        return best_candidate(self.table, cand, z, current, none)
 
 
 def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
