@@ -84,7 +84,7 @@ def rectified_views(albedo, height, world_dirs, folder) -> tuple[np.ndarray, np.
     """Render the surface (``albedo``, ``height`` in pixels, both (GRID, GRID)) from each unit
     direction of ``world_dirs`` (towards the camera) into ``folder``; returns the rectified
     stack (V, GRID, GRID) and the directions in image axes (x right, y down, z up) for
-    ``texsynth.btf.align``. Resets the current Blender file."""
+    ``texsynth.stack.btf.align``. Resets the current Blender file."""
 
     scene, camera = _scene(albedo, height)
     stack = np.stack([_render_rectified(scene, camera, d, Path(folder) / f"view{k}.png")

@@ -23,8 +23,9 @@ import numpy as np
 
 from benchmarks.cycles import cpu_scene
 from texsynth import estimate
-from texsynth.io import read_png, srgb_to_linear
-from texsynth.periodic import periodic_component
+from texsynth.blocks.color import srgb_to_linear
+from texsynth.blocks.periodic import periodic_component
+from texsynth.io import read_png
 
 __all__ = ["View", "make_views", "render_views", "camera_rotation", "ground_truth"]
 

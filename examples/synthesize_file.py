@@ -99,12 +99,12 @@ def main(argv):
     image = tree.nodes.active.image
     exr = Path(bpy.path.abspath(image.filepath))
 
-    io = addon.texsynth.io
-    texture = io.read_exr(exr)
+    core = addon.texsynth
+    texture = core.io.read_exr(exr)
     if not image.colorspace_settings.is_data:
-        texture[:, :, :3] = io.linear_to_srgb(texture[:, :, :3])
+        texture[:, :, :3] = core.blocks.color.linear_to_srgb(texture[:, :, :3])
     preview = out / f"{exr.stem}_tiled.png"
-    io.write_png(preview, io.tile_preview(texture, 2, 2))
+    core.io.write_png(preview, core.blocks.periodic.tile_preview(texture, 2, 2))
 
     blend = out / f"{exr.stem}.blend"
     bpy.context.preferences.filepaths.save_version = 0  # no .blend1 backup (this process only)

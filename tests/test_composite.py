@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import texsynth
-from texsynth import composite
+from texsynth.algorithms.composite import synthesis as composite
+from texsynth.algorithms.composite.segmentation import label_colours, labels_from_image, segment
 from texsynth.metrics import seam_ratio
-from texsynth.segmentation import label_colours, labels_from_image, segment
 
 FAST = {"max_cliques": 6, "sweeps": 8}
 RED, BLUE = np.array([0.8, 0.25, 0.2]), np.array([0.2, 0.35, 0.85])

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import texsynth
-from texsynth import cooccurrence as co
-from texsynth.cliques import (
+from texsynth.algorithms.cooccurrence import model as co
+from texsynth.algorithms.cooccurrence.cliques import (
     PairIndex,
     Relaxation,
     Term,

@@ -12,10 +12,10 @@ from texsynth.algorithms.de_bonet import (
     pyramid_features,
     sample_pyramid,
 )
+from texsynth.blocks.periodic import periodic_component
+from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
 from texsynth.metrics import seam_ratio
-from texsynth.periodic import periodic_component
 from texsynth.progress import Progress
-from texsynth.pyramid import LaplacianPyramid, SteerablePyramid
 
 
 def _photo(size=48, channels=3, seed=0):

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from texsynth.histogram import TargetHistogram, match
+from texsynth.blocks.histogram import TargetHistogram, match
 
 
 @pytest.fixture

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from texsynth.pyramid import LaplacianPyramid, SteerablePyramid
+from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
 
 
 @pytest.mark.parametrize("shape, scales", [((64, 64), 4), ((37, 50), 3), ((33, 17), 2),

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import texsynth
+from texsynth.blocks.search import PatchMatrix, sample_near_best, sparse_subset, square_offsets
 from texsynth.metrics import seam_ratio
-from texsynth.search import PatchMatrix, sample_near_best, sparse_subset, square_offsets
 
 from _images import ramp_photo, smooth_noise
 

@@ -1,7 +1,7 @@
 import numpy as np
 
+from texsynth.blocks.periodic import periodic_component
 from texsynth.metrics import seam_ratio
-from texsynth.periodic import periodic_component
 
 from _images import ramp_photo
 

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from texsynth.pyramid import SteerablePyramid, max_scales
+from texsynth.blocks.pyramid import SteerablePyramid, max_scales
 
 
 @pytest.mark.parametrize("shape", [(64, 64), (37, 53), (200, 300), (128, 96)])

@@ -5,8 +5,8 @@ import pytest
 from scipy.ndimage import gaussian_filter, map_coordinates
 
 import texsynth
-from texsynth import btf
 from texsynth.metrics import luminance, seam_ratio
+from texsynth.stack import btf
 
 from _images import ramp_photo, smooth_noise
 

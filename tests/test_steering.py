@@ -7,10 +7,10 @@ import pytest
 import scipy.fft as sfft
 
 import texsynth
-from texsynth.histogram import JointTarget, JointWork, TargetHistogram, match, match_joint
+from texsynth.blocks.histogram import JointTarget, JointWork, TargetHistogram, match, match_joint
+from texsynth.blocks.pyramid import SteerablePyramid
+from texsynth.blocks.steering import Steering, steering_kernels
 from texsynth.metrics import seam_ratio
-from texsynth.pyramid import SteerablePyramid
-from texsynth.steering import Steering, steering_kernels
 
 from _images import smooth_noise
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import texsynth
+from texsynth.blocks.pyramid import SteerablePyramid
 from texsynth.metrics import seam_ratio
-from texsynth.pyramid import SteerablePyramid
 
 from _images import ramp_photo, smooth_noise
 

@@ -23,8 +23,8 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import gaussian_filter
 
-from .periodic import periodic_component
-from .pyramid import SteerablePyramid, max_scales
+from .blocks.periodic import periodic_component
+from .blocks.pyramid import SteerablePyramid, max_scales
 
 __all__ = [
     "luminance",

@@ -1,17 +1,22 @@
 """The method registry: every synthesis algorithm describes itself here.
 
-A :class:`Method` carries a name, a label, a description and typed :class:`Param` records. The
-Blender operator and panel are generated from :func:`methods`, so adding an algorithm means adding
-one module under ``texsynth/methods`` that calls :func:`register`; nothing else changes.
+A :class:`Method` carries a name, a label, a description, typed :class:`Param` records, its
+function and its memory estimate. The Blender operators and panel are generated from
+:func:`methods`, so adding an algorithm means adding one module (or package) under
+``texsynth/algorithms/`` that calls :func:`register`, and its import line in
+``texsynth/algorithms/__init__.py``; nothing else changes.
+
+This module imports nothing of the project's: ``texsynth/__init__.py`` imports
+``texsynth.algorithms``, which fills the registry, before anyone can ask it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Param", "Method", "register", "methods", "get"]
+__all__ = ["Param", "Method", "register", "methods", "get_method"]
 
 
 @dataclass(frozen=True)
@@ -85,8 +90,6 @@ class Method:
     memory: Callable[[tuple, int, int, dict], float] = (
         lambda shape, width, height, params: 64.0 * width * height * shape[2]
     )
-    reference: str = ""
-    extras: dict = field(default_factory=dict)
     #: The function returns ``(image, positions)``: int32 (height, width, 2) (row, col) into the
     #: exemplar, the pixel each output pixel was copied from (see ``texsynth.apply_positions``).
     positions: bool = False
@@ -123,14 +126,12 @@ def register(method: Method) -> Method:
 
 
 def methods() -> tuple[Method, ...]:
-    """Every registered method, in registration order."""
-    from . import algorithms  # noqa: F401  (importing the package registers the methods)
-
+    """Every registered method, in registration order (the panel's order)."""
     return tuple(_METHODS.values())
 
 
-def get(name: str) -> Method:
-    methods()
+def get_method(name: str) -> Method:
+    """The registered method called ``name``, or ``ValueError`` listing the available ones."""
     try:
         return _METHODS[name]
     except KeyError:

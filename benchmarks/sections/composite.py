@@ -11,9 +11,10 @@ import time
 
 import numpy as np
 
-from texsynth import composite, cooccurrence
-from texsynth.cliques import Relaxation
-from texsynth.segmentation import label_colours
+from texsynth import cooccurrence
+from texsynth.algorithms.composite import synthesis as composite
+from texsynth.algorithms.composite.segmentation import label_colours
+from texsynth.algorithms.cooccurrence.cliques import Relaxation
 
 ORDER = 60
 TITLE = "Clique model and composite textures (paper 004)"

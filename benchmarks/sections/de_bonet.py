@@ -13,10 +13,10 @@ from scipy.spatial import cKDTree
 
 import texsynth
 from texsynth.algorithms import de_bonet as db
-from texsynth.color import ColorPCA
-from texsynth.periodic import periodic_component
+from texsynth.blocks.color import ColorPCA
+from texsynth.blocks.periodic import periodic_component
+from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
 from texsynth.progress import Progress
-from texsynth.pyramid import LaplacianPyramid, SteerablePyramid
 
 ORDER = 45
 TITLE = "De Bonet: sampling each level conditioned on its parent structure (paper 000, Alg. 11.5)"

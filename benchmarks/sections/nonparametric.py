@@ -18,7 +18,7 @@ import numpy as np
 import texsynth
 from benchmarks import peers
 from texsynth import metrics
-from texsynth.search import gaussian_weights, square_offsets
+from texsynth.blocks.search import gaussian_weights, square_offsets
 
 ORDER = 50
 TITLE = "Non-parametric: Efros-Leung and the multiscale MRF (issue 5)"

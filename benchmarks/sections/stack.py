@@ -14,8 +14,8 @@ from scipy.ndimage import gaussian_filter
 
 import texsynth
 from benchmarks.cycles import cpu_scene
-from texsynth import btf
 from texsynth.metrics import luminance, seam_ratio
+from texsynth.stack import btf
 
 ORDER = 60
 TITLE = "Whole materials: maps synthesized consistently (issue 9)"
@@ -138,7 +138,7 @@ def _alignment(ctx):
             f"+-20 deg in x and y, slant up to 28 deg) of a {GRID} x {GRID} px textured height "
             f"field of mean height {height.mean():.2f} px (range {np.ptp(height):.1f} px), each "
             f"rectified to the frontal grid of the plane z = 0 with the known camera. "
-            f"`texsynth.btf.align` chooses {best:.2f} px.", "",
+            f"`texsynth.stack.btf.align` chooses {best:.2f} px.", "",
             "| height px | " + " | ".join(f"{h:g}" for h in heights) + " |",
             "|---" * (len(heights) + 1) + "|",
             "| mean distance | " + " | ".join(f"{c:.4f}" for c in curve) + " |", "",

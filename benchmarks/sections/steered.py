@@ -15,7 +15,7 @@ import numpy as np
 
 import texsynth
 import texsynth.algorithms.heeger_bergen as heeger_bergen_module
-from texsynth.histogram import JointTarget
+from texsynth.blocks.histogram import JointTarget
 
 ORDER = 40
 TITLE = "Heeger-Bergen with steered and joint histogram matching (paper 001)"

@@ -1,4 +1,4 @@
-"""texsynth.btf.align on Cycles renders of a displaced plane (paper 002 section 2.2).
+"""texsynth.stack.btf.align on Cycles renders of a displaced plane (paper 002 section 2.2).
 
 A textured height field (mean height known) is rendered with orthographic cameras from several
 directions, each view rectified to the frontal grid for the plane z = 0 with the known camera
@@ -10,7 +10,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 
 from benchmarks.btf_renders import GRID, rectified_views
-from texsynth import btf
+from texsynth.stack import btf
 
 
 def test_alignment_recovers_the_mean_height_of_a_rendered_surface(addon, tmp_path):

@@ -1,8 +1,12 @@
 # ruff: noqa: I001  (registration order is panel order: composite last)
-"""One module per algorithm; importing this package registers them all, in panel order.
+"""One home per method: importing this package registers them all, in panel order.
 
-The folder is `algorithms`, not `methods`, because `texsynth.methods` is the public function
-that lists them; a subpackage of that name would replace it on import.
+Each method is a module, or a package when it has helpers of its own, holding its registration
+(``METHOD = register(Method(...))``), its paper's algorithm and its docstring. Building blocks
+that several methods share are in ``texsynth.blocks``.
+
+The folder is ``algorithms``, not ``methods``, because ``texsynth.methods`` is the public
+function that lists them; a subpackage of that name would replace it on import.
 """
 
 from . import heeger_bergen  # noqa: F401

@@ -11,7 +11,7 @@ Paper 000, section 11.3.3, Algorithm 11.5 and exercise 1 (after De Bonet, SIGGRA
         copy the value of one of them chosen uniformly at random.
     Synthesize the output image from pw.
 
-Pyramids: what is copied and synthesized is a Laplacian pyramid (``texsynth.pyramid``'s
+Pyramids: what is copied and synthesized is a Laplacian pyramid (``texsynth.blocks.pyramid``'s
 periodic ``LaplacianPyramid``), and each level's value at a location also carries the K oriented
 responses of the steerable pyramid there, the filter responses De Bonet added to his Laplacian
 levels: a parent structure is then orientation-aware (Laplacian values, oriented responses). One
@@ -46,10 +46,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..periodic import periodic_component
-from ..pyramid import LaplacianPyramid, SteerablePyramid
+from ..blocks.periodic import periodic_component
+from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
-from .heeger_bergen import pyramid_depth
 
 __all__ = [
     "de_bonet",
@@ -276,7 +275,7 @@ def _memory(shape, width, height, params):
     return per_pixel * width * height + per_exemplar_pixel * shape[0] * shape[1] + (24 << 20)
 
 
-register(Method(
+METHOD = register(Method(
     name="de_bonet",
     label="De Bonet",
     description="Copy each pyramid coefficient from an exemplar location whose coarser-scale "
@@ -294,5 +293,4 @@ register(Method(
     ),
     min_exemplar=16,
     memory=_memory,
-    reference="De Bonet 1997; paper 000 sec. 11.3.3 Alg. 11.5 and exercise 1",
 ))

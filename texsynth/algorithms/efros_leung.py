@@ -16,9 +16,9 @@ against wrapped context and the result tiles. Exemplar windows never wrap unless
 declared tileable (``exemplar_tiles``). Colour channels are matched jointly and whole pixels are
 copied, so the method also returns a position map (row, col into the exemplar).
 
-Search: exact, not approximate (``texsynth.search.PatchMatrix.sample``). Every exemplar window
-is a row of a matrix, so the weighted SSD of a batch of output windows against all of them is a
-matrix product. It is first taken over the inner 7 x 7 offsets only, a lower bound of the full
+Search: exact, not approximate (``texsynth.blocks.search.PatchMatrix.sample``). Every exemplar
+window is a row of a matrix, so the weighted SSD of a batch of output windows against all of them
+is a matrix product. It is first taken over the inner 7 x 7 offsets only, a lower bound of the full
 SSD (every term is non-negative); the full SSD of the best-bounded window bounds the minimum from
 above; only windows whose bound is within (1 + epsilon) of it are scored in full. The result is
 the same as scoring every window in full (docs/BENCHMARKS.md: the speed-up over the
@@ -41,16 +41,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..registry import Method, Param, register
-from ..search import (
+from ..blocks.search import (
     PatchMatrix,
     gaussian_weights,
     sparse_subset,
     square_offsets,
     toroidal_gather,
 )
+from ..registry import Method, Param, register
 
-__all__ = ["efros_leung"]
+__all__ = ["efros_leung", "METHOD"]
 
 #: Efros & Leung's MaxErrThreshold: RMS match error, as a fraction of the exemplar's value range,
 #: above which a pixel waits for more context.
@@ -142,7 +142,7 @@ def _memory(shape, width, height, params):
     return 4 * windows * k * k * (c + 1) + BATCH_BYTES * 2 + width * height * (4 * c + 8 + 6)
 
 
-register(Method(
+METHOD = register(Method(
     name="efros_leung",
     label="Efros-Leung",
     description="Grow the texture pixel by pixel, copying the centre of a well-matching exemplar "
@@ -158,6 +158,5 @@ register(Method(
     ),
     min_exemplar=3,
     memory=_memory,
-    reference="Efros & Leung 1999; paper 000 sec. 11.3.4 Alg. 11.6; paper 003 sec. 28.4",
     positions=True,
 ))

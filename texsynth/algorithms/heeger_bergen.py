@@ -29,29 +29,24 @@ Deviations, one line each:
 - the exemplar's subband statistics come from its periodic component (Moisan 2011), so the
   border jump of a non-tiling photo adds no false cross-shaped energy to the bands;
 - pixel histograms come from the exemplar itself, so the output's values are the photo's;
-- the subband matching uses the O(N) cumulative-histogram path of ``texsynth.histogram``;
+- the subband matching uses the O(N) cumulative-histogram path of ``texsynth.blocks.histogram``;
 - colour channels are the exemplar's PCA components, synthesized one after another from one shared
   noise draw, projected back and clipped to the exemplar's per-channel range;
-- joint matching bins by equal-count conditional bins (see ``texsynth.histogram``), not fixed ones.
+- joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..color import ColorPCA
-from ..histogram import JointTarget, JointWork, TargetHistogram, match, match_joint
-from ..periodic import periodic_component
-from ..pyramid import Coefficients, SteerablePyramid, max_scales
+from ..blocks.color import ColorPCA
+from ..blocks.histogram import JointTarget, JointWork, TargetHistogram, match, match_joint
+from ..blocks.periodic import periodic_component
+from ..blocks.pyramid import Coefficients, SteerablePyramid, pyramid_depth
+from ..blocks.steering import Steering
 from ..registry import Method, Param, register
-from ..steering import Steering
 
-__all__ = ["heeger_bergen", "pyramid_depth"]
-
-
-def pyramid_depth(exemplar_shape, width: int, height: int, scales: int) -> int:
-    """``scales`` capped so that both the exemplar's and the output's pyramids exist."""
-    return min(scales, max_scales(exemplar_shape[:2]), max_scales((height, width)))
+__all__ = ["heeger_bergen", "METHOD"]
 
 
 def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations=4,
@@ -149,7 +144,7 @@ def _memory(shape, width, height, params):
     return per_pixel * width * height + per_exemplar * shape[0] * shape[1]
 
 
-register(Method(
+METHOD = register(Method(
     name="heeger_bergen",
     label="Heeger-Bergen",
     description="Match the histograms of steerable-pyramid subbands (Heeger & Bergen 1995): "
@@ -169,5 +164,4 @@ register(Method(
     ),
     min_exemplar=8,
     memory=_memory,
-    reference="Heeger & Bergen 1995; paper 000 sec. 11.3.2 Alg. 11.3-11.4; paper 003 sec. 28.3",
 ))

@@ -1,6 +1,6 @@
 """Multiscale MRF synthesis with Ashikhmin candidates and confidence weighting, periodic.
 
-Paper 002 (Neubeck, Zalesny, Van Gool), section 3.1: Paget & Longstaff's non-parametric multiscale
+Neubeck, Zalesny & Van Gool 2004, section 3.1: Paget & Longstaff's non-parametric multiscale
 MRF, sampled from the exemplar, with Ashikhmin's candidate search, and confidences.
 
 - The output is a position map ``S``: per pixel, the exemplar pixel whose colour it shows.
@@ -12,49 +12,30 @@ MRF, sampled from the exemplar, with Ashikhmin's candidate search, and confidenc
       dist(i, j, p, q) = sum_(u,v in N) w(i + u, j + v) ||out(i + u, j + v) - in(p + u, q + v)||^2,
   where neighbours outside the exemplar count as the maximal difference; S(i, j) moves to the
   best candidate only when it is better than the current one.
-- Confidence: every visit adds 1/T to w(i, j) (eq. 1, T = ``visits``); a pixel is visited with
-  probability proportional to 1 - w (eq. 2) and is final at w = 1.
-- Multigrid (fig. 9): level l is the output decimated by 2^l with coordinates kept at full
-  resolution, so its neighbourhood offsets are 2^l (u, v) in the exemplar and every level reads
-  the whole exemplar. The coarsest grid starts from random positions; a finished level's pixels
-  seed the even pixels of the next finer one with confidence 0.5, the others start random at 0.
+- Confidences (eq. 1-2) and the multigrid (fig. 9) are ``texsynth.blocks.multigrid``'s; on
+  level l the neighbourhood offsets are 2^l (u, v) in the exemplar, so every level reads the
+  whole exemplar.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
 
-Deviations, one line each:
-- visits are made in batches: each batch is a random lattice of pixels r + 1 apart (so no pixel
-  of a batch is in another's neighbourhood, and the batch equals visiting them one after
-  another), each lattice pixel taken with probability (1 - w) / max(1 - w); the paper draws one
-  pixel at a time with probability (1 - w) / sum(1 - w), the same proportions;
-- a side not divisible by 2^l gives a coarse grid of ceil(side / 2^l) points whose last row or
-  column sits closer to the first; the finest level, where this does not arise, corrects it;
+Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - a neighbour outside the exemplar costs w (D + |O - mean|^2) instead of w D (D = the maximal
   difference), which lets eq. 3 be one dot product; such candidates lose either way;
 - "placed" neighbours are those visited at least once on this level (w > 0); the random
-  positions of the initialisation propose no continuation, the ``random_candidates`` do that job;
-- the number of levels is capped so that the coarsest neighbourhood (2 r 2^l + 1) fits in the
-  exemplar and its grid is at least 2 r + 1 points across.
+  positions of the initialisation propose no continuation, the ``random_candidates`` do that job.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..blocks import multigrid
+from ..blocks.multigrid import grid_shapes, level_count
+from ..blocks.search import Rows, best_candidate, disk_offsets, exemplar_neighbours
 from ..registry import Method, Param, register
-from ..search import Rows, best_candidate, disk_offsets, exemplar_neighbours
 
-__all__ = ["multiscale_mrf", "level_count"]
-
-
-def level_count(exemplar_shape, width, height, radius, levels) -> int:
-    """``levels`` capped so the coarsest neighbourhood fits the exemplar and the output grid."""
-    side = min(exemplar_shape[:2])
-    n = 1
-    while (n < levels and 2 * radius * 2 ** n + 1 <= side
-           and -(-min(width, height) // 2 ** n) >= 2 * radius + 1):
-        n += 1
-    return n
+__all__ = ["multiscale_mrf", "METHOD"]
 
 
 class _Level:
@@ -68,7 +49,7 @@ class _Level:
     #: Output pixels whose candidates are scored at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
-    def __init__(self, exemplar, offsets, step, wrap, visits, random_candidates):
+    def __init__(self, exemplar, offsets, step, wrap, random_candidates):
         h, w, c = exemplar.shape
         colours = exemplar.reshape(h * w, c)
         centred = exemplar - colours.mean(axis=0)
@@ -134,62 +115,12 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
                          f"(radius {radius}: {2 * radius + 1} x {2 * radius + 1}); use a smaller "
                          "radius or a larger exemplar")
     offsets = disk_offsets(radius)
-    n_levels = level_count(exemplar.shape, width, height, radius, levels)
-    shapes = [(-(-height // 2 ** lv), -(-width // 2 ** lv)) for lv in range(n_levels)]
-    work = np.array([gh * gw for gh, gw in shapes], float)
-    work /= work.sum()
-
-    # Confidence w is counted in halves of a visit: w = halves / (2 T), final at 2 T.
-    source = _random_positions(shapes[-1], h * w, rng)
-    halves = np.zeros(shapes[-1], np.int16)
-    for lv in reversed(range(n_levels)):
-        if lv < n_levels - 1:
-            coarse = source
-            source = _random_positions(shapes[lv], h * w, rng)
-            source[::2, ::2] = coarse
-            halves = np.zeros(shapes[lv], np.int16)
-            halves[::2, ::2] = visits  # confidence 0.5
-        level = _Level(exemplar, offsets, 2 ** lv, exemplar_tiles, visits, random_candidates)
-        start = work[lv + 1:].sum()
-        _relax(level, source, halves, visits, rng, progress.span(start, start + work[lv]), lv)
-
+    shapes = grid_shapes(width, height, level_count(exemplar.shape, width, height, radius, levels))
+    source = multigrid.synthesize_positions(
+        lambda lv: _Level(exemplar, offsets, 2 ** lv, exemplar_tiles, random_candidates),
+        h * w, shapes, visits, rng, progress)
     positions = np.stack(np.divmod(source, w), axis=2).astype(np.int32)
     return exemplar.reshape(h * w, c)[source], positions
-
-
-def _random_positions(shape, n, rng):
-    """Flat exemplar indices, each exemplar pixel used equally often (up to rounding)."""
-    size = shape[0] * shape[1]
-    pool = np.tile(np.arange(n, dtype=np.int32), -(-size // n))
-    return rng.permutation(pool)[:size].reshape(shape)
-
-
-def _relax(level, source, halves, visits, rng, progress, index):
-    """Visit the pixels of one level, with probability proportional to 1 - w (eq. 2), until
-    every confidence w reaches 1 (eq. 1)."""
-    gh, gw = source.shape
-    spacing = int(np.floor(np.sqrt((level.offsets ** 2).sum(axis=1).max()))) + 1
-    full = 2 * visits
-    total = float((full - halves).sum())
-    confidence = np.empty(source.shape, np.float32)
-    while True:
-        need = full - halves
-        remaining = int(need.sum())
-        if remaining == 0:
-            break
-        progress(1.0 - remaining / total, f"level {index}: visiting")
-        # A lattice of pixels `spacing` apart, also across the wrap, at a random offset.
-        ry = (rng.integers(gh) + spacing * np.arange(max(1, gh // spacing))) % gh
-        rx = (rng.integers(gw) + spacing * np.arange(max(1, gw // spacing))) % gw
-        lattice_need = need[np.ix_(ry, rx)]
-        take = rng.random(lattice_need.shape) * need.max() < lattice_need
-        iy, ix = np.nonzero(take)
-        if len(iy) == 0:
-            continue
-        rows, cols = ry[iy], rx[ix]
-        np.multiply(halves, np.float32(1.0 / full), out=confidence)
-        source[rows, cols] = level.visit(source, confidence, rows, cols, rng)
-        halves[rows, cols] = np.minimum(halves[rows, cols] + 2, full)
 
 
 def _memory(shape, width, height, params):
@@ -205,7 +136,7 @@ def _memory(shape, width, height, params):
     return exemplar + maps + batch + chunk
 
 
-register(Method(
+METHOD = register(Method(
     name="multiscale_mrf",
     label="Multiscale MRF",
     description="Relax a map of exemplar positions from coarse to fine, each pixel taking the "
@@ -226,7 +157,5 @@ register(Method(
     ),
     min_exemplar=3,
     memory=_memory,
-    reference="Neubeck, Zalesny & Van Gool 2004 (paper 002) sec. 3.1; Paget & Longstaff 1998; "
-              "Ashikhmin 2001",
     positions=True,
 ))

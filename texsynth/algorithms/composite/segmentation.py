@@ -33,12 +33,12 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from .io import srgb_to_linear
+from ...blocks.color import srgb_to_linear
 
 __all__ = ["lab", "features", "partition", "segment", "labels_from_image", "label_colours",
            "MAX_CLASSES"]
 
-#: Most classes a label map may have (the label texture's marks: texsynth.cliques.GOLOMB).
+#: Most classes a label map may have (the label texture's marks: ``cooccurrence.cliques.GOLOMB``).
 MAX_CLASSES = 12
 SAMPLES = 400
 #: 0 is automatic: the first of ``AUTO_CONTRASTS`` that finds two classes or more.

@@ -1,4 +1,4 @@
-"""Periodic + smooth decomposition of an image (Moisan 2011), and toroidal helpers.
+"""Periodic + smooth decomposition of an image (Moisan 2011), and a tiled preview.
 
 A photograph is not periodic: its FFT sees a jump where the right edge meets the left one, which
 puts a bright cross in the spectrum and oriented energy into every pyramid band. Moisan's
@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-__all__ = ["periodic_component", "boundary_image"]
+__all__ = ["periodic_component", "boundary_image", "tile_preview"]
 
 
 def boundary_image(u: np.ndarray) -> np.ndarray:
@@ -47,3 +47,9 @@ def periodic_component(u: np.ndarray) -> np.ndarray:
     s_hat = v_hat / denom
     s_hat[0, 0] = 0.0
     return (u - sfft.irfft2(s_hat, s=(m, n))).astype(np.float32)
+
+
+def tile_preview(image: np.ndarray, nx: int = 2, ny: int = 2) -> np.ndarray:
+    """The image repeated ``nx`` times across and ``ny`` times down: a seam shows at once."""
+    a = np.asarray(image)
+    return np.tile(a if a.ndim == 3 else a[:, :, None], (ny, nx, 1))

@@ -15,10 +15,10 @@ Selection (:func:`select`), as in the paper:
     3. the same histograms in the working image;
     4. the Euclidean distance of each type's histogram to the exemplar's;
     5. the worst type: if its distance is below ``threshold`` stop, else add it to the model;
-    6. synthesize the working image with the enlarged model (:class:`texsynth.cliques.Relaxation`);
+    6. synthesize the working image with the enlarged model (:class:`.cliques.Relaxation`);
     7. go to 3.
 
-Colour: each PCA component of the exemplar (texsynth.color.ColorPCA) gets its own model,
+Colour: each PCA component of the exemplar (texsynth.blocks.color.ColorPCA) gets its own model,
 selected and synthesized independently. Why not colour clique statistics: a joint histogram of
 colour differences has G^3 bins per clique type, hundreds of KB where the paper reports a few
 hundred to a few thousand bytes; along the principal axes the channels are uncorrelated at
@@ -46,9 +46,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ... import validation
+from ...blocks.color import ColorPCA
+from ...progress import Progress
 from .cliques import GOLOMB, PairIndex, Relaxation, Term, difference_histograms, half_offsets
-from .color import ColorPCA
-from .progress import Progress
 
 __all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
            "label_levels", "FORMAT"]
@@ -289,9 +290,7 @@ def fit(exemplar, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     ``max_offset``: longest clique type (Chebyshev, pixels); ``threshold``: step 5's stopping
     distance; ``max_cliques``: most types per channel; ``levels``: grey levels per component.
     """
-    from . import validate_exemplar
-
-    x = validate_exemplar(exemplar, 8)
+    x = validation.image(exemplar)
     rng = np.random.default_rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
     pca = ColorPCA.fit(x)

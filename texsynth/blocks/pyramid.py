@@ -27,12 +27,17 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft as sfft
 
-__all__ = ["SteerablePyramid", "Coefficients", "max_scales"]
+__all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
 
 
 def max_scales(shape: tuple[int, int]) -> int:
     """Deepest pyramid an image of ``shape`` supports (coarsest band keeps >= 4 pixels a side)."""
     return max(0, int(math.floor(math.log2(min(shape)))) - 2)
+
+
+def pyramid_depth(exemplar_shape, width: int, height: int, scales: int) -> int:
+    """``scales`` capped so that both the exemplar's and the output's pyramids exist."""
+    return min(scales, max_scales(exemplar_shape[:2]), max_scales((height, width)))
 
 
 def _check_scales(shape: tuple[int, int], scales: int) -> None:
@@ -240,4 +245,3 @@ class LaplacianPyramid:
         return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
 
 
-__all__ += ["LaplacianPyramid"]

@@ -2,7 +2,7 @@
 
 The K band filters of a level are B_k = (-i)^(K-1) alpha_K cos^(K-1)(theta - theta_k) * radial,
 theta = atan2(fy, fx) and theta_k = pi k / K (k = 0..K-1; the paper counts m = 1..K), exactly as
-:mod:`texsynth.pyramid` builds them. cos^(K-1) is a trigonometric polynomial whose harmonics n
+:mod:`.pyramid` builds them. cos^(K-1) is a trigonometric polynomial whose harmonics n
 run over N, N-2, ... >= 0 (N = K - 1): K real degrees of freedom, so the K filters span every
 rotated copy, and the response of the filter turned to any angle phi is
 

@@ -8,9 +8,9 @@ Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), sections 1, 3 
     result.image, result.labels, result.output_labels
 
 1. Segment the exemplar: ``labels`` painted by the user (one flat colour per class), or the
-   unsupervised segmentation of section 3 (:func:`texsynth.segmentation.segment`).
+   unsupervised segmentation of section 3 (:func:`.segmentation.segment`).
 2. Model the label map as a texture: the clique model of section 2 on label marks
-   (:func:`texsynth.cooccurrence.fit_labels`).
+   (:func:`texsynth.cooccurrence.model.fit_labels`).
 3. Model each subtexture from its own pixels only.
 4. Synthesize a label map (periodic) from 2, or take ``output_labels`` drawn by the user.
 5. Fill each region with its subtexture.
@@ -51,10 +51,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from . import cooccurrence as co
-from .cliques import Relaxation, Term, difference_histograms, half_offsets
-from .color import ColorPCA
-from .progress import Progress
+from ... import validation
+from ...api import synthesize as synthesize_method
+from ...blocks.color import ColorPCA
+from ...progress import Progress
+from ...registry import get_method
+from ..cooccurrence import model as co
+from ..cooccurrence.cliques import Relaxation, Term, difference_histograms, half_offsets
 from .segmentation import CONTRAST, label_colours, labels_from_image, segment
 
 __all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
@@ -323,10 +326,10 @@ def synthesize(exemplar, width: int, height: int, labels=None, output_labels=Non
     exemplar : (H, W) or (H, W, C) image, sRGB-encoded for the automatic segmentation.
     labels : optional label image of the exemplar, the same H x W: integer classes, or a
         painted colour image with one flat colour per class. None: unsupervised segmentation
-        (``contrast``, ``texture_features``: see :func:`texsynth.segmentation.segment`).
+        (``contrast``, ``texture_features``: see :func:`.segmentation.segment`).
     output_labels : optional label map of the output, ``height`` x ``width``: integer classes
         of ``labels``, or colours (each pixel takes the class of the nearest class colour: the
-        painted colours of ``labels``, or :func:`texsynth.segmentation.label_colours`'s
+        painted colours of ``labels``, or :func:`.segmentation.label_colours`'s
         palette for automatic labels). None: synthesized from the label texture.
     fill : ``"cooccurrence"`` (with interactions) or the name of any registered method.
     interaction_distance : reach of the cross-boundary cliques (0: none).
@@ -335,10 +338,7 @@ def synthesize(exemplar, width: int, height: int, labels=None, output_labels=Non
     Raises ``ValueError`` for a label image of the wrong size, a single class, or a fill
     method that does not exist.
     """
-    from . import get_method, validate_exemplar
-    from . import synthesize as synthesize_method
-
-    x = validate_exemplar(exemplar, 8)
+    x = validation.image(exemplar)
     if fill != "cooccurrence":
         if fill == "composite":
             raise ValueError("fill must be a single-texture method, not 'composite'")

@@ -1,28 +1,36 @@
-"""Composite textures as a registered method: automatic labels, synthesized label map.
+"""Composite textures (Zalesny et al. 2002, sections 1, 3 and 4): the ``composite`` method.
 
-Paper 004, sections 1, 3 and 4 (texsynth.composite). ``texsynth.synthesize`` passes scalar
-parameters only, so this method covers the fully automatic case (unsupervised segmentation,
-synthesized label map). A painted label image of the exemplar or an output label map are
-images, not panel parameters: they go through ``texsynth.composite.synthesize(exemplar, width,
-height, labels=..., output_labels=...)``, which the Blender composite operator calls.
+Everything of the method lives in this package:
+
+- ``segmentation.py``: unsupervised segmentation of the exemplar into subtextures (section 3),
+  and label images painted by a user;
+- ``synthesis.py``: the label texture, the subtextures with their interactions (section 4), and
+  :func:`synthesize`, which takes label images too;
+- here: the registered method. ``texsynth.synthesize`` passes scalar parameters only, so it
+  covers the fully automatic case (unsupervised segmentation, synthesized label map); a painted
+  label image of the exemplar or an output label map go through ``texsynth.composite.synthesize
+  (exemplar, width, height, labels=..., output_labels=...)``, which the Blender composite
+  operator calls.
 """
 
 from __future__ import annotations
 
-from .. import composite as cp
-from .. import cooccurrence as co
-from ..registry import Method, Param, get, methods, register
-from ..segmentation import CONTRAST
+from ...registry import Method, Param, methods, register
+from ..cooccurrence import METHOD as CLIQUE_MODEL
+from ..cooccurrence import model as co
+from . import segmentation
+from .segmentation import CONTRAST
+from .synthesis import INTERACTION_DISTANCE, Composite, synthesize
 
-__all__ = ["composite"]
+__all__ = ["Composite", "synthesize", "segmentation", "METHOD"]
 
 
 def composite(exemplar, width, height, rng, progress, fill="cooccurrence",
-              interaction_distance=cp.INTERACTION_DISTANCE, max_offset=co.MAX_OFFSET,
+              interaction_distance=INTERACTION_DISTANCE, max_offset=co.MAX_OFFSET,
               threshold=co.THRESHOLD, max_cliques=co.MAX_CLIQUES, levels=co.LEVELS,
               sweeps=co.SWEEPS, label_scale=0, contrast=CONTRAST, texture_features=False):
     """Segment ``exemplar``, synthesize a label map and fill it (height, width, C)."""
-    return cp.synthesize(exemplar, width, height, fill=fill, seed=int(rng.integers(2**31)),
+    return synthesize(exemplar, width, height, fill=fill, seed=int(rng.integers(2**31)),
                          progress=progress, interaction_distance=interaction_distance,
                          max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
                          levels=levels, sweeps=sweeps, label_scale=label_scale,
@@ -32,11 +40,11 @@ def composite(exemplar, width, height, rng, progress, fill="cooccurrence",
 def _memory(shape, width, height, params):
     """The clique model's working set, the label maps, and which (term, end) columns each
     pixel takes part in (2 bytes per selected type and pixel)."""
-    return (get("cooccurrence").memory(shape, width, height, params)
+    return (CLIQUE_MODEL.memory(shape, width, height, params)
             + (16 + 2 * params["max_cliques"]) * width * height)
 
 
-register(Method(
+METHOD = register(Method(
     name="composite",
     label="Composite",
     description="Composite texture (Zalesny & Van Gool): segment the exemplar into subtextures, "
@@ -48,7 +56,7 @@ register(Method(
         Param("fill", str, "cooccurrence", "Method that fills each region (clique model: with "
               "interactions)", choices=("cooccurrence",) + tuple(
                   m.name for m in methods() if m.name not in ("composite", "cooccurrence"))),
-        Param("interaction_distance", int, cp.INTERACTION_DISTANCE,
+        Param("interaction_distance", int, INTERACTION_DISTANCE,
               "Reach of the cliques across subtexture boundaries (0: none)", 0, 8),
         Param("max_offset", int, co.MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
         Param("threshold", float, co.THRESHOLD,
@@ -68,5 +76,4 @@ register(Method(
     ),
     min_exemplar=16,
     memory=_memory,
-    reference="Zalesny & Van Gool, Composite texture descriptions, secs. 1, 3, 4 (paper 004)",
 ))

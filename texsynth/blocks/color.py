@@ -1,8 +1,9 @@
-"""PCA colour decorrelation and its inverse (paper 003, section 28.3; paper 001, section 3).
+"""Colour maths: PCA decorrelation and its inverse, and the sRGB transfer function.
 
-Heeger-Bergen synthesizes channels independently. RGB channels of a photo are strongly
-correlated, so independent synthesis would invent colours; along the principal axes of the
-exemplar's colour cloud the channels are decorrelated and independent synthesis is reasonable.
+PCA (Torralba, Isola & Freeman, sec. 28.3; Van De Ville et al. 2009, sec. 3): Heeger-Bergen
+synthesizes channels independently. RGB channels of a photo are strongly correlated, so
+independent synthesis would invent colours; along the principal axes of the exemplar's colour
+cloud the channels are decorrelated and independent synthesis is reasonable.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ColorPCA"]
+__all__ = ["ColorPCA", "srgb_to_linear", "linear_to_srgb"]
 
 
 @dataclass(frozen=True)
@@ -38,3 +39,17 @@ class ColorPCA:
 
     def inverse(self, components: np.ndarray) -> np.ndarray:
         return (components @ self.basis.T + self.mean).astype(np.float32)
+
+
+def srgb_to_linear(v) -> np.ndarray:
+    """The sRGB transfer function (IEC 61966-2-1) decoded; values above 1 follow the power law."""
+    v = np.asarray(v, dtype=np.float32)
+    return np.where(v <= 0.04045, v / 12.92, ((np.maximum(v, 0.04045) + 0.055) / 1.055) ** 2.4
+                    ).astype(np.float32)
+
+
+def linear_to_srgb(v) -> np.ndarray:
+    """Inverse of :func:`srgb_to_linear`."""
+    v = np.asarray(v, dtype=np.float32)
+    return np.where(v <= 0.0031308, v * 12.92,
+                    1.055 * np.maximum(v, 0.0031308) ** (1 / 2.4) - 0.055).astype(np.float32)

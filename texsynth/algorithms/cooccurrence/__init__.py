@@ -1,0 +1,61 @@
+"""The pairwise clique model (Zalesny et al. 2002, section 2): the ``cooccurrence`` method.
+
+Everything of the method lives in this package:
+
+- ``cliques.py``: clique types, difference histograms, the stochastic relaxation;
+- ``model.py``: clique-type selection (steps 1-7), the model and its file, synthesis from it;
+- here: the registered method (fit, then synthesize from the model) and the public names
+  ``fit``, ``synthesize`` and ``Model`` (fit once, synthesize at any size without the exemplar).
+"""
+
+from __future__ import annotations
+
+from ...registry import Method, Param, register
+from .model import (
+    LEVELS,
+    MAX_CLIQUES,
+    MAX_OFFSET,
+    SWEEPS,
+    THRESHOLD,
+    Model,
+    fit,
+    synthesize,
+)
+
+__all__ = ["Model", "fit", "synthesize", "METHOD"]
+
+
+def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
+                 threshold=THRESHOLD, max_cliques=MAX_CLIQUES, levels=LEVELS, sweeps=SWEEPS):
+    """Fit the clique model of ``exemplar`` and synthesize (height, width, C) from it."""
+    model = fit(exemplar, max_offset, threshold, max_cliques, levels, seed=rng,
+                progress=progress.span(0.0, 0.3))
+    return synthesize(model, width, height, rng, sweeps, progress.span(0.3, 1.0))
+
+
+def _memory(shape, width, height, params):
+    """Padded image, per-set (pixels x 2T) gathers, a colouring and the float output."""
+    t = 2 * params["max_cliques"]
+    return width * height * (4 * 6 + 3 * 4 * shape[2]) + 16 * t * width * height / 4
+
+
+METHOD = register(Method(
+    name="cooccurrence",
+    label="Clique model",
+    description="Pairwise clique model (Zalesny & Van Gool): a few KB of difference histograms "
+                "of selected pixel pairs, synthesized by stochastic relaxation; never copies "
+                "the exemplar; best on fine stochastic textures",
+    function=cooccurrence,
+    params=(
+        Param("max_offset", int, MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
+        Param("threshold", float, THRESHOLD,
+              "Stop adding clique types when the worst histogram distance is below this",
+              0.001, 1.0),
+        Param("max_cliques", int, MAX_CLIQUES, "Most clique types per colour component",
+              1, 100),
+        Param("levels", int, LEVELS, "Grey levels of the strongest colour component", 4, 128),
+        Param("sweeps", int, SWEEPS, "Relaxation sweeps over the output", 1, 500),
+    ),
+    min_exemplar=8,
+    memory=_memory,
+))

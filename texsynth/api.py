@@ -1,0 +1,113 @@
+"""The synthesis entry points: validate, run the registered method, hand back a periodic image.
+
+Every method goes through :func:`synthesize` (or :func:`synthesize_positions`): arguments are
+checked by :mod:`texsynth.validation` before any work, a constant alpha channel is set aside and
+put back, the method gets a seeded ``numpy.random.Generator`` and a
+:class:`~texsynth.progress.Progress`, and its result is checked against the promised shape.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from . import validation
+from .progress import Progress
+from .registry import get_method, methods
+
+__all__ = ["synthesize", "synthesize_positions"]
+
+
+def synthesize(
+    exemplar,
+    width: int,
+    height: int,
+    method: str = "heeger_bergen",
+    seed: int = 0,
+    progress: Callable[[float, str], object] | None = None,
+    **params,
+) -> np.ndarray:
+    """Synthesize a periodic texture of ``width`` x ``height`` pixels from ``exemplar``.
+
+    Parameters
+    ----------
+    exemplar : array (H, W) or (H, W, C), C in 1, 3, 4
+        The sample, top row first. Floats as they are (linear or not: the result has the same
+        encoding); uint8/uint16 are scaled to [0, 1].
+    width, height : int
+        Output size, 1 to ``MAX_SIDE``; any shape, larger or smaller than the exemplar.
+    method : str
+        A name from :func:`texsynth.methods`.
+    seed : int
+        Same inputs and seed give bit-identical output.
+    progress : callable(fraction, message), optional
+        Called during the work; returning ``False`` or raising :class:`Cancelled` cancels,
+        and ``synthesize`` then raises :class:`Cancelled`.
+    **params
+        The method's parameters (see ``texsynth.get_method(name).params``).
+
+    Returns
+    -------
+    float32 array (height, width, C), periodic in both directions.
+
+    Alpha: a constant alpha channel (an opaque photo) is passed through unchanged; a varying one
+    is synthesized together with the colour as a fourth channel.
+    """
+    return _run(exemplar, width, height, method, seed, progress, params, False)[0]
+
+
+def synthesize_positions(
+    exemplar,
+    width: int,
+    height: int,
+    method: str = "multiscale_mrf",
+    seed: int = 0,
+    progress: Callable[[float, str], object] | None = None,
+    **params,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`synthesize` for methods that copy exemplar pixels, with their position map.
+
+    Returns ``(image, positions)``: the same image :func:`synthesize` gives, and int32
+    (height, width, 2) (row, col) coordinates into the exemplar, so that
+    ``apply_positions(positions, exemplar)`` is that image (after the same uint scaling) and
+    ``apply_positions(positions, normal_map)`` makes another map of the material follow.
+    Raises ``ValueError`` for methods without position maps (``get_method(name).positions``).
+    """
+    return _run(exemplar, width, height, method, seed, progress, params, True)
+
+
+def _run(exemplar, width, height, method, seed, progress, params, want_positions):
+    m = get_method(method)
+    if want_positions and not m.positions:
+        raise ValueError(f"method '{m.name}' does not copy exemplar pixels, so it has no "
+                         "position map; use one of: "
+                         + ", ".join(x.name for x in methods() if x.positions))
+    values = m.resolve(params)
+    a = validation.image(exemplar, min_side=m.min_exemplar)
+    width, height = validation.size(width, height)
+    seed = validation.seed(seed)
+    validation.check_memory(m.memory(a.shape, width, height, values),
+                            f"{width} x {height} with '{m.name}'")
+
+    constant_alpha = None
+    if a.shape[2] == 4 and np.ptp(a[:, :, 3]) == 0:
+        constant_alpha = a[0, 0, 3]
+        a = np.ascontiguousarray(a[:, :, :3])
+
+    report = Progress(progress)
+    report(0.0, f"{m.label}: starting")
+    rng = np.random.default_rng(seed)
+    out = m.function(a, width, height, rng, report, **values)
+    positions = None
+    if m.positions:
+        out, positions = out
+        positions = np.ascontiguousarray(positions, dtype=np.int32)
+    out = np.ascontiguousarray(out, dtype=np.float32)
+    if out.shape != (height, width, a.shape[2]):
+        raise AssertionError(f"{m.name} returned {out.shape}, "
+                             f"expected {(height, width, a.shape[2])}")
+    if constant_alpha is not None:
+        out = np.concatenate([out, np.full((height, width, 1), constant_alpha, np.float32)], axis=2)
+    report(1.0, f"{m.label}: done")
+    return out, positions

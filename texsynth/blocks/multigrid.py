@@ -1,0 +1,109 @@
+"""The multigrid relaxation of a position map with confidences (Paget & Longstaff 1998).
+
+Shared by ``multiscale_mrf`` and the guided synthesis of ``texsynth.stack``, as described by
+Neubeck, Zalesny & Van Gool 2004, section 3.1 (eq. 1-2, fig. 9). The output is a position map
+``S``: per pixel, the flat index of the exemplar pixel it shows. A *level* object knows the
+distance of its paper and answers ``level.visit(S, w, rows, cols, rng)`` with the best
+positions for the pixels (rows, cols); this module decides which pixels are visited, when, and
+how the grids follow one another:
+
+- Confidence: every visit adds 1/T to w(i, j) (eq. 1, T = ``visits``); a pixel is visited with
+  probability proportional to 1 - w (eq. 2) and is final at w = 1.
+- Multigrid (fig. 9): level l is the output decimated by 2^l with coordinates kept at full
+  resolution. The coarsest grid starts from random positions; a finished level's pixels seed
+  the even pixels of the next finer one with confidence 0.5, the others start random at 0.
+
+Deviations, one line each:
+- visits are made in batches: each batch is a random lattice of pixels r + 1 apart (so no pixel
+  of a batch is in another's neighbourhood, and the batch equals visiting them one after
+  another), each lattice pixel taken with probability (1 - w) / max(1 - w); the paper draws one
+  pixel at a time with probability (1 - w) / sum(1 - w), the same proportions;
+- a side not divisible by 2^l gives a coarse grid of ceil(side / 2^l) points whose last row or
+  column sits closer to the first; the finest level, where this does not arise, corrects it;
+- the number of levels is capped so that the coarsest neighbourhood (2 r 2^l + 1) fits in the
+  exemplar and its grid is at least 2 r + 1 points across.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from ..progress import Progress
+
+__all__ = ["level_count", "grid_shapes", "random_positions", "relax", "synthesize_positions"]
+
+
+def level_count(exemplar_shape, width, height, radius, levels) -> int:
+    """``levels`` capped so the coarsest neighbourhood fits the exemplar and the output grid."""
+    side = min(exemplar_shape[:2])
+    n = 1
+    while (n < levels and 2 * radius * 2 ** n + 1 <= side
+           and -(-min(width, height) // 2 ** n) >= 2 * radius + 1):
+        n += 1
+    return n
+
+
+def grid_shapes(width: int, height: int, n_levels: int) -> list[tuple[int, int]]:
+    """The (rows, cols) of each level's grid, finest first."""
+    return [(-(-height // 2 ** lv), -(-width // 2 ** lv)) for lv in range(n_levels)]
+
+
+def random_positions(shape, n, rng) -> np.ndarray:
+    """Flat exemplar indices, each exemplar pixel used equally often (up to rounding)."""
+    size = shape[0] * shape[1]
+    pool = np.tile(np.arange(n, dtype=np.int32), -(-size // n))
+    return rng.permutation(pool)[:size].reshape(shape)
+
+
+def synthesize_positions(make_level: Callable[[int], object], n: int, shapes, visits: int,
+                         rng: np.random.Generator, progress: Progress) -> np.ndarray:
+    """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
+    coarse to fine; ``make_level(l)`` builds level l's distance (fig. 9)."""
+    n_levels = len(shapes)
+    work = np.array([gh * gw for gh, gw in shapes], float)
+    work /= work.sum()
+
+    # Confidence w is counted in halves of a visit: w = halves / (2 T), final at 2 T.
+    source = random_positions(shapes[-1], n, rng)
+    halves = np.zeros(shapes[-1], np.int16)
+    for lv in reversed(range(n_levels)):
+        if lv < n_levels - 1:
+            coarse = source
+            source = random_positions(shapes[lv], n, rng)
+            source[::2, ::2] = coarse
+            halves = np.zeros(shapes[lv], np.int16)
+            halves[::2, ::2] = visits  # confidence 0.5
+        level = make_level(lv)
+        start = work[lv + 1:].sum()
+        relax(level, source, halves, visits, rng, progress.span(start, start + work[lv]), lv)
+    return source
+
+
+def relax(level, source, halves, visits, rng, progress, index) -> None:
+    """Visit the pixels of one level, with probability proportional to 1 - w (eq. 2), until
+    every confidence w reaches 1 (eq. 1). ``source`` and ``halves`` are updated in place."""
+    gh, gw = source.shape
+    spacing = int(np.floor(np.sqrt((level.offsets ** 2).sum(axis=1).max()))) + 1
+    full = 2 * visits
+    total = float((full - halves).sum())
+    confidence = np.empty(source.shape, np.float32)
+    while True:
+        need = full - halves
+        remaining = int(need.sum())
+        if remaining == 0:
+            break
+        progress(1.0 - remaining / total, f"level {index}: visiting")
+        # A lattice of pixels `spacing` apart, also across the wrap, at a random offset.
+        ry = (rng.integers(gh) + spacing * np.arange(max(1, gh // spacing))) % gh
+        rx = (rng.integers(gw) + spacing * np.arange(max(1, gw // spacing))) % gw
+        lattice_need = need[np.ix_(ry, rx)]
+        take = rng.random(lattice_need.shape) * need.max() < lattice_need
+        iy, ix = np.nonzero(take)
+        if len(iy) == 0:
+            continue
+        rows, cols = ry[iy], rx[ix]
+        np.multiply(halves, np.float32(1.0 / full), out=confidence)
+        source[rows, cols] = level.visit(source, confidence, rows, cols, rng)
+        halves[rows, cols] = np.minimum(halves[rows, cols] + 2, full)

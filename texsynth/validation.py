@@ -1,0 +1,93 @@
+"""The one validation layer: every public entry point checks its arguments here, before any work.
+
+Each check returns the value in the form the core works with, or raises ``ValueError`` with a
+message that names the argument and says what to change. Nothing in here allocates more than
+the checked array itself.
+
+- :func:`image`: an image array (H, W) or (H, W, C), numeric and finite, as float32 (H, W, C);
+- :func:`size` and :func:`seed`: output sizes and seeds, whole numbers in range;
+- :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+__all__ = ["MAX_SIDE", "image", "size", "seed", "number", "memory_budget", "check_memory"]
+
+#: Largest output side accepted (pixels).
+MAX_SIDE = 16384
+
+
+def image(array, *, what: str = "exemplar", min_side: int = 8,
+          channels: tuple[int, ...] = (1, 3, 4), finite: bool = True) -> np.ndarray:
+    """``array`` as C-contiguous float32 (H, W, C), or ``ValueError`` saying what is wrong.
+
+    Floats are taken as they are; unsigned integer images are scaled to [0, 1] by their type's
+    maximum (uint8 / 255, uint16 / 65535). ``finite=False`` lets NaN and infinities through
+    (files may hold them; synthesis may not).
+    """
+    a = np.asarray(array)
+    if a.dtype.kind == "u":
+        a = a.astype(np.float32) / np.float32(np.iinfo(a.dtype).max)
+    elif a.dtype.kind not in "fi":
+        raise ValueError(f"{what} must be a numeric image array, got dtype {a.dtype}")
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3:
+        raise ValueError(f"{what} must be (H, W) or (H, W, C), got shape {a.shape}")
+    if a.shape[2] not in channels:
+        listed = ", ".join(map(str, channels[:-1])) + f" or {channels[-1]}"
+        raise ValueError(f"{what} must have {listed} channels, got {a.shape[2]}")
+    h, w = a.shape[:2]
+    if min(h, w) < min_side:
+        raise ValueError(f"{what} is {w} x {h} pixels; this needs at least "
+                         f"{min_side} x {min_side}")
+    a = np.ascontiguousarray(a, dtype=np.float32)
+    if finite and not np.isfinite(a).all():
+        raise ValueError(f"{what} contains NaN or infinite values; clamp or repair the image "
+                         "first")
+    return a
+
+
+def size(width, height) -> tuple[int, int]:
+    """(width, height) as ints from 1 to :data:`MAX_SIDE`."""
+    out = []
+    for name, v in (("width", width), ("height", height)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ValueError(f"{name} must be a whole number of pixels, got {v!r}")
+        if not 1 <= v <= MAX_SIDE:
+            raise ValueError(f"{name} must be between 1 and {MAX_SIDE} pixels, got {v}")
+        out.append(int(v))
+    return out[0], out[1]
+
+
+def seed(value) -> int:
+    """A seed: a non-negative whole number."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ValueError(f"seed must be a non-negative whole number, got {value!r}")
+    return int(value)
+
+
+def number(value, name: str, low: float, high: float) -> float:
+    """A finite real number in [low, high]."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not low <= value <= high:
+        raise ValueError(f"{name} must be a number from {low} to {high}, got {value!r}")
+    return float(value)
+
+
+def memory_budget() -> int:
+    """Bytes a synthesis may plan to use: ``TEXSYNTH_MEMORY_BUDGET`` (bytes) or 8 GiB."""
+    return int(os.environ.get("TEXSYNTH_MEMORY_BUDGET", 8 << 30))
+
+
+def check_memory(need: float, what: str, advice: str = "") -> None:
+    """``ValueError`` before allocating when ``need`` bytes exceed :func:`memory_budget`."""
+    budget = memory_budget()
+    if need > budget:
+        raise ValueError(f"{what} needs about {need / 2**30:.1f} GiB, over the budget of "
+                         f"{budget / 2**30:.1f} GiB (set TEXSYNTH_MEMORY_BUDGET to raise it"
+                         f"{', or ' + advice if advice else ''})")
