@@ -10,7 +10,8 @@ align the camera, rectify. The work is the core's ``texsynth.estimate``.
 * ``texsynth.rectify`` writes the frontal view of the photo as a new image, ready for
   ``texsynth.synthesize``.
 
-Every check happens before anything changes: on error the file is as it was. The estimate
+Align and rectify need a stored estimate: until there is one their ``poll()`` is False and says
+so. Every check happens before anything changes: on error the file is as it was. The estimate
 works on a copy of the photo reduced to at most 384 pixels on its longer side, so it is quick
 on a photo of any size and the operators run synchronously (no :class:`job.JobOperator`).
 """
@@ -85,6 +86,19 @@ def _fail(operator, error):
     return {"CANCELLED"}
 
 
+class NeedsEstimate:
+    """Mixin: ``poll()`` is False, saying why, until the scene holds a plane estimate."""
+
+    @classmethod
+    def poll(cls, context):
+        try:
+            stored_estimate(context.scene.texsynth.plane)
+        except ValueError as error:
+            cls.poll_message_set(str(error))
+            return False
+        return True
+
+
 # --- operators --------------------------------------------------------------------------------
 
 
@@ -130,7 +144,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class TEXSYNTH_OT_align_camera(bpy.types.Operator):
+class TEXSYNTH_OT_align_camera(NeedsEstimate, bpy.types.Operator):
     """Pose the scene camera so that the active plane (world XY if none) is seen as in the photo"""
 
     bl_idname = "texsynth.align_camera"
@@ -188,7 +202,7 @@ class TEXSYNTH_OT_align_camera(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class TEXSYNTH_OT_rectify(bpy.types.Operator):
+class TEXSYNTH_OT_rectify(NeedsEstimate, bpy.types.Operator):
     """Write the photo seen frontally (the plane's texture without perspective) as a new image"""
 
     bl_idname = "texsynth.rectify"

@@ -75,6 +75,15 @@ class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
         description="Weight c of the active map in the guided distance (paper 002: 0.25)",
         options={"SKIP_SAVE"})
 
+    @classmethod
+    def poll(cls, context):
+        try:
+            source.find_source(context)
+        except ValueError as error:
+            cls.poll_message_set(str(error))
+            return False
+        return True
+
     def draw(self, context):
         properties.draw_settings(self.layout, self, self)
         self.layout.prop(self, "mode")

@@ -100,6 +100,22 @@ def test_in_column_mode_every_map_shows_the_pixel_the_active_one_copied(addon):
     assert nodes["rough node"].outputs["Color"].links[0].to_socket.name == "Roughness"
 
 
+def test_without_an_active_image_node_the_operator_is_greyed_out_and_says_why():
+    op = bpy.ops.texsynth.synthesize_material
+    assert not op.poll()
+    with pytest.raises(RuntimeError, match=r"poll\(\) No active object: select the object"):
+        op(**FAST)
+    tree = _material(noise(24, 32))
+    tree.nodes.active = tree.nodes["Principled BSDF"]
+    before = fingerprint()
+    assert not op.poll()
+    with pytest.raises(RuntimeError, match="is a Principled BSDF node, not an Image Texture"):
+        op(**FAST)
+    assert fingerprint() == before
+    tree.nodes.active = tree.nodes["source node"]
+    assert op.poll()
+
+
 def test_maps_of_another_size_or_a_method_without_positions_change_nothing(addon):
     tree = _material(noise(24, 32))
     _follower(tree, generated_image(noise(16, 16), name="small"), "small node", "Alpha")

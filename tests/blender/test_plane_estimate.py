@@ -190,3 +190,18 @@ def test_panels_draw_every_control(panel):
                 "texsynth.align_camera", "texsynth.rectify", "texsynth.synthesize"}
     assert expected <= set(layout.drawn)
     assert ("photo" in layout.drawn) == panel.endswith("view3d")
+
+
+@pytest.mark.parametrize("operator", ["align_camera", "rectify"])
+def test_align_and_rectify_are_greyed_out_until_there_is_an_estimate(operator):
+    op = getattr(bpy.ops.texsynth, operator)
+    assert not op.poll()
+    with pytest.raises(RuntimeError, match=r"poll\(\) No plane estimate yet: run Estimate Plane"):
+        op()
+    _stored(bpy.context.scene)
+    assert op.poll()
+
+
+def test_the_moments_baseline_is_not_offered():
+    items = bpy.context.scene.texsynth.plane.bl_rna.properties["method"].enum_items
+    assert [i.identifier for i in items] == ["AUTO", "ISOTROPY"]
