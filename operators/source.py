@@ -16,7 +16,8 @@ class Source:
 
 
 def find_source(context, image_name: str = "") -> Source:
-    """Raise ``ValueError`` saying what to select when there is no usable source."""
+    """The image named ``image_name``, else the active Image Texture node's image (with its
+    material and node); ``ValueError`` saying what to select when there is none."""
     if image_name:
         if image_name not in bpy.data.images:
             raise ValueError(f"No image named '{image_name}'")
