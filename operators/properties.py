@@ -27,6 +27,7 @@ without a word.
 """
 
 import dataclasses
+import inspect
 import math
 
 import bpy
@@ -150,8 +151,7 @@ def registry_settings(*method_names: str):
     methods = tuple(texsynth.get_method(name) for name in method_names) or None
 
     def decorate(cls):
-        cls.__annotations__ = {**cls.__dict__.get("__annotations__", {}),
-                               **operator_properties(methods)}
+        cls.__annotations__ = {**inspect.get_annotations(cls), **operator_properties(methods)}
         return cls
 
     return decorate
