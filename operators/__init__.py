@@ -1,12 +1,27 @@
-"""Blender glue: settings, the synthesize operator and the Shader Editor panel.
+"""Blender glue: the TexSynth settings, operators and panels (the core is ``texsynth/``).
 
-Each module keeps a ``classes`` tuple and its own ``register``/``unregister``; this package only
-delegates, in order (settings before the operator and panel that read them).
+Read in this order:
+
+* ``properties.py``: every setting, in ``scene.texsynth`` (property groups made from the
+  texsynth registry) and on the operators (:func:`properties.registry_settings`);
+* ``job.py``: :class:`job.JobOperator`, the run of a long synthesis (worker thread, progress,
+  Esc; synchronous in background mode) that the synthesis operators share;
+* the operators, one module per feature: ``synthesize.py`` (``texsynth.synthesize``),
+  ``material.py`` (``texsynth.synthesize_material``: the maps of a material together),
+  ``composite.py`` (``texsynth.segment``, ``texsynth.synthesize_composite``), ``estimate.py``
+  (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``);
+* ``panels.py``: every panel;
+* helpers: ``source.py`` (which image and node), ``pixels.py`` (Blender pixels to arrays and
+  back), ``output.py`` (the new image datablock or file), ``nodes.py`` (the new node).
+
+Each module with Blender classes keeps a ``classes`` tuple and its own ``register`` and
+``unregister`` (``bpy.utils.register_classes_factory``); this package only delegates, in order:
+the settings before the operators, the operators before the panels that show them.
 """
 
-from . import composite, estimate, material, panel, positions, properties, synthesize
+from . import composite, estimate, material, panels, properties, synthesize
 
-_modules = (properties, synthesize, panel, positions, material, composite, estimate)
+_modules = (properties, synthesize, material, composite, estimate, panels)
 
 
 def register():

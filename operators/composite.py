@@ -1,4 +1,4 @@
-"""Composite textures in Blender (paper 004): label source, segmentation image, painted layout.
+"""Composite textures (paper 004, Zalesny, Van Gool et al.): segmentation and synthesis.
 
 * ``texsynth.segment``: the unsupervised segmentation of the active Image Texture node's image
   as a new image, one flat palette colour per class, to inspect or to repaint and use as the
@@ -10,10 +10,11 @@
   painted image (``output_labels``) whose size is then the output's and whose colours are the
   label image's (or the segmentation palette's).
 
-The image choices are kept per scene in ``scene.texsynth.composite``; the composite method's
-parameters are the panel's (``scene.texsynth.params.composite``), and so are size, seed and
-output (``scene.texsynth``). Everything is checked before anything is made; on error or cancel
-the file is unchanged.
+Unset operator properties come from the scene: the image choices from
+``scene.texsynth.composite``, the composite method's parameters from
+``scene.texsynth.params.composite``, size, seed and output from ``scene.texsynth`` (all declared
+in ``properties.py``; the Composite panel is in ``panels.py``). Everything is checked before
+anything is made; on error or cancel the file is unchanged.
 """
 
 import bpy
@@ -23,7 +24,6 @@ from .. import texsynth
 from ..texsynth import composite, segmentation
 from . import nodes, output, pixels, properties, source
 from .job import Job, JobOperator
-from .panel import SidebarPanel
 
 METHOD = "composite"
 
@@ -76,6 +76,7 @@ class TEXSYNTH_OT_segment(bpy.types.Operator):
         return {"FINISHED"}
 
 
+@properties.registry_settings(METHOD)
 class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
     """Synthesize a composite texture (label map + subtextures) from the active Image Texture
     node's image into a new image and node, and its label map into another new image"""
@@ -83,6 +84,19 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
     bl_idname = "texsynth.synthesize_composite"
     bl_label = "Synthesize Composite"
     bl_options = {"REGISTER", "UNDO"}
+
+    # Size, seed, output and the composite method's parameters: added by registry_settings.
+    source_image: bpy.props.StringProperty(
+        name="Source Image", options={"SKIP_SAVE"},
+        description="Image to synthesize from; empty: the active Image Texture node's")
+    label_image: bpy.props.StringProperty(
+        name="Label Image", options={"SKIP_SAVE"},
+        description="Name of the exemplar's label image; empty: the panel's choice, "
+                    "else automatic segmentation")
+    output_labels: bpy.props.StringProperty(
+        name="Output Labels", options={"SKIP_SAVE"},
+        description="Name of a painted output label map; empty: the panel's choice, "
+                    "else synthesized")
 
     def draw(self, context):
         layout = self.layout
@@ -127,64 +141,5 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
                 f"classes) and its label map '{layout.name}'")
 
 
-class TEXSYNTH_PG_composite(bpy.types.PropertyGroup):
-    """The composite panel's image choices, per scene."""
-
-    label_image: bpy.props.PointerProperty(
-        type=bpy.types.Image, name="Labels",
-        description="Label image of the exemplar (same size, one flat colour per class); "
-                    "empty: automatic segmentation")
-    output_labels: bpy.props.PointerProperty(
-        type=bpy.types.Image, name="Layout",
-        description="Painted output label map in the label image's colours (its size is the "
-                    "output's); empty: synthesized from the label texture")
-
-
-class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
-    """Under the Texture Synthesis panel: label source, segmentation, layout and the button."""
-
-    bl_label = "Composite"
-    bl_parent_id = "TEXSYNTH_PT_synthesize"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        chosen = context.scene.texsynth.composite
-        layout.template_ID(chosen, "label_image", open="image.open")
-        layout.operator(TEXSYNTH_OT_segment.bl_idname, icon="IMAGE_RGB")
-        layout.template_ID(chosen, "output_labels", open="image.open")
-        method = texsynth.get_method(METHOD)
-        properties.draw_params(layout, properties.method_settings(context.scene.texsynth,
-                                                                  method), method)
-        layout.operator(TEXSYNTH_OT_synthesize_composite.bl_idname, icon="TEXTURE")
-
-
-classes = (TEXSYNTH_PG_composite, TEXSYNTH_OT_segment, TEXSYNTH_OT_synthesize_composite,
-           TEXSYNTH_PT_composite)
-register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
-
-
-def register():
-    annotations = properties.operator_annotations((texsynth.get_method(METHOD),))
-    annotations.update(
-        source_image=bpy.props.StringProperty(
-            name="Source Image", options={"SKIP_SAVE"},
-            description="Image to synthesize from; empty: the active Image Texture node's"),
-        label_image=bpy.props.StringProperty(
-            name="Label Image", options={"SKIP_SAVE"},
-            description="Name of the exemplar's label image; empty: the panel's choice, "
-                        "else automatic segmentation"),
-        output_labels=bpy.props.StringProperty(
-            name="Output Labels", options={"SKIP_SAVE"},
-            description="Name of a painted output label map; empty: the panel's choice, "
-                        "else synthesized"))
-    TEXSYNTH_OT_synthesize_composite.__annotations__ = annotations
-    register_classes()
-    properties.TEXSYNTH_PG_settings.composite = bpy.props.PointerProperty(
-        type=TEXSYNTH_PG_composite)
-
-
-def unregister():
-    del properties.TEXSYNTH_PG_settings.composite
-    unregister_classes()
+classes = (TEXSYNTH_OT_segment, TEXSYNTH_OT_synthesize_composite)
+register, unregister = bpy.utils.register_classes_factory(classes)

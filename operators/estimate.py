@@ -1,14 +1,19 @@
-"""Plane orientation from a photo: estimate, align the camera, rectify (``texsynth.estimate``).
+"""Plane orientation from a photo (shape from texture, paper 000, sec. 11.4.1): estimate,
+align the camera, rectify. The work is the core's ``texsynth.estimate``.
 
-``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's
-image, else the panel's photo, else the active Image Texture node's image) and stores slant, tilt
-(radians), focal length and confidence in ``scene.texsynth.plane``. ``texsynth.align_camera``
-poses the scene camera (made if missing) so that the active object's local XY plane (world XY at
-the origin when nothing is active) is seen at that slant and tilt; ``texsynth.rectify`` writes
-the frontal view of the photo as a new image, ready for ``texsynth.synthesize``. Every check
-happens before anything changes: on error the file is as it was. The estimate takes a second or
-two on an image of any size (it works on a copy reduced to 384 pixels), so the operators run
-synchronously.
+* ``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's
+  image, else the panel's photo, else the active Image Texture node's image) and stores slant,
+  tilt (radians), focal length and confidence in ``scene.texsynth.plane``
+  (``properties.TEXSYNTH_PG_plane``).
+* ``texsynth.align_camera`` poses the scene camera (made if missing) so that the active object's
+  local XY plane (world XY at the origin when nothing is active) is seen at that slant and tilt.
+* ``texsynth.rectify`` writes the frontal view of the photo as a new image, ready for
+  ``texsynth.synthesize``.
+
+Align and rectify need a stored estimate: until there is one their ``poll()`` is False and says
+so. Every check happens before anything changes: on error the file is as it was. The estimate
+works on a copy of the photo reduced to at most 384 pixels on its longer side, so it is quick
+on a photo of any size and the operators run synchronously (no :class:`job.JobOperator`).
 """
 
 import math
@@ -17,58 +22,9 @@ import bpy
 from mathutils import Matrix
 
 from ..texsynth import estimate
-from . import output, pixels, properties, source
+from . import output, pixels, source
 
-METHOD_ITEMS = (
-    ("AUTO", "Auto", "Isotropy and homogeneity under perspective: the receding direction and, "
-                     "when the focal length is unknown, an estimate of it"),
-    ("ISOTROPY", "Isotropy", "Orthographic isotropy search: tilt known only up to 180 degrees"),
-    ("MOMENTS", "Moments", "Textbook spectral second-moment estimate (fast, less accurate)"),
-)
 DEFAULT_DISTANCE = 5.0
-
-
-class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
-    """The last plane estimate and the estimate panels' settings (``scene.texsynth.plane``)."""
-
-    photo: bpy.props.PointerProperty(
-        name="Photo", type=bpy.types.Image,
-        description="Photo of a textured plane (the 3D View panel's source; the Image Editor "
-                    "uses the image it shows)")
-    method: bpy.props.EnumProperty(name="Method", items=METHOD_ITEMS, default="AUTO",
-                                   description="How the orientation is estimated")
-    use_camera_focal: bpy.props.BoolProperty(
-        name="Taken with Scene Camera",
-        description="The photo was taken with the scene camera's lens and sensor: use its focal "
-                    "length instead of estimating it")
-    add_background: bpy.props.BoolProperty(
-        name="Photo as Background", default=True,
-        description="Show the photo as the camera's background image when aligning")
-    has_estimate: bpy.props.BoolProperty(name="Has Estimate", options={"HIDDEN"})
-    image: bpy.props.StringProperty(name="Estimated Image",
-                                    description="Name of the image the estimate was made on")
-    image_width: bpy.props.IntProperty(name="Width", subtype="PIXEL", options={"HIDDEN"})
-    image_height: bpy.props.IntProperty(name="Height", subtype="PIXEL", options={"HIDDEN"})
-    slant: bpy.props.FloatProperty(
-        name="Slant", subtype="ANGLE", min=0.0, max=math.radians(89.9),
-        description="Angle between the plane's normal and the camera's optical axis")
-    tilt: bpy.props.FloatProperty(
-        name="Tilt", subtype="ANGLE",
-        description="Image direction in which the plane recedes, counter-clockwise from right")
-    focal_px: bpy.props.FloatProperty(
-        name="Focal Length", subtype="PIXEL", min=0.0,
-        description="Focal length in pixels of the photo; 0: orthographic (unknown)")
-    focal_estimated: bpy.props.BoolProperty(name="Focal Estimated", options={"HIDDEN"})
-    tilt_ambiguous: bpy.props.BoolProperty(
-        name="Tilt Ambiguous",
-        description="The receding direction is not determined: tilt + 180 degrees fits as well")
-    confidence: bpy.props.FloatProperty(name="Confidence", subtype="FACTOR", min=0.0, max=1.0,
-                                        description="How far the estimate can be trusted")
-    uncertainty: bpy.props.FloatProperty(
-        name="Uncertainty", subtype="ANGLE", min=0.0,
-        description="One-sigma uncertainty of the plane normal")
-    rectified: bpy.props.StringProperty(name="Rectified Image",
-                                        description="Name of the last rectified image")
 
 
 # --- which photo -------------------------------------------------------------------------------
@@ -130,6 +86,19 @@ def _fail(operator, error):
     return {"CANCELLED"}
 
 
+class NeedsEstimate:
+    """Mixin: ``poll()`` is False, saying why, until the scene holds a plane estimate."""
+
+    @classmethod
+    def poll(cls, context):
+        try:
+            stored_estimate(context.scene.texsynth.plane)
+        except ValueError as error:
+            cls.poll_message_set(str(error))
+            return False
+        return True
+
+
 # --- operators --------------------------------------------------------------------------------
 
 
@@ -175,7 +144,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class TEXSYNTH_OT_align_camera(bpy.types.Operator):
+class TEXSYNTH_OT_align_camera(NeedsEstimate, bpy.types.Operator):
     """Pose the scene camera so that the active plane (world XY if none) is seen as in the photo"""
 
     bl_idname = "texsynth.align_camera"
@@ -233,7 +202,7 @@ class TEXSYNTH_OT_align_camera(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class TEXSYNTH_OT_rectify(bpy.types.Operator):
+class TEXSYNTH_OT_rectify(NeedsEstimate, bpy.types.Operator):
     """Write the photo seen frontally (the plane's texture without perspective) as a new image"""
 
     bl_idname = "texsynth.rectify"
@@ -267,72 +236,5 @@ class TEXSYNTH_OT_rectify(bpy.types.Operator):
         return {"FINISHED"}
 
 
-# --- panels -----------------------------------------------------------------------------------
-
-
-def draw_plane(layout, context, in_image_editor: bool) -> None:
-    settings = context.scene.texsynth.plane
-    layout.use_property_split = True
-    layout.use_property_decorate = False
-    if not in_image_editor:
-        layout.prop(settings, "photo")
-    layout.prop(settings, "method")
-    row = layout.row()
-    row.enabled = settings.method == "AUTO"
-    row.prop(settings, "use_camera_focal")
-    layout.operator("texsynth.estimate_plane", icon="VIEW_PERSPECTIVE")
-    if not settings.has_estimate:
-        return
-    box = layout.box()
-    box.label(text=f"Estimate of '{settings.image}'", icon="IMAGE_DATA")
-    box.prop(settings, "slant")
-    box.prop(settings, "tilt")
-    if settings.tilt_ambiguous:
-        box.label(text="Tilt may be off by 180°", icon="INFO")
-    box.prop(settings, "focal_px")
-    box.prop(settings, "confidence")
-    layout.prop(settings, "add_background")
-    layout.operator("texsynth.align_camera", icon="CAMERA_DATA")
-    column = layout.column(align=True)
-    column.label(text="Rectify, then synthesize:")
-    column.operator("texsynth.rectify", icon="IMAGE_PLANE")
-    if settings.rectified in bpy.data.images:
-        op = column.operator("texsynth.synthesize", icon="TEXTURE",
-                             text=f"Synthesize from '{settings.rectified}'")
-        op.source_image = settings.rectified
-
-
-class PlanePanel:
-    """Mixin of the two sidebar panels; ``in_image_editor``: the photo is the editor's image."""
-
-    bl_label = "Plane from Texture"
-    bl_region_type = "UI"
-    bl_category = "TexSynth"
-    in_image_editor = False
-
-    def draw(self, context):
-        draw_plane(self.layout, context, self.in_image_editor)
-
-
-class TEXSYNTH_PT_plane_image(PlanePanel, bpy.types.Panel):
-    bl_space_type = "IMAGE_EDITOR"
-    in_image_editor = True
-
-
-class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
-    bl_space_type = "VIEW_3D"
-
-
-classes = (TEXSYNTH_PG_plane, TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_align_camera,
-           TEXSYNTH_OT_rectify, TEXSYNTH_PT_plane_image, TEXSYNTH_PT_plane_view3d)
-register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
-
-
-def register():
-    register_classes()
-    properties.TEXSYNTH_PG_settings.plane = bpy.props.PointerProperty(type=TEXSYNTH_PG_plane)
-
-
-def unregister():
-    del properties.TEXSYNTH_PG_settings.plane
-    unregister_classes()
+classes = (TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_align_camera, TEXSYNTH_OT_rectify)
+register, unregister = bpy.utils.register_classes_factory(classes)

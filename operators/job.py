@@ -68,7 +68,8 @@ class JobOperator:
     The operator defines ``prepare(context) -> (job, plan)``, which checks everything and copies
     the pixels out of Blender (raising ``ValueError``), and ``make(result, plan) -> str``, which
     makes the new datablocks from the job's result and returns the message to report (raising
-    ``ValueError`` or ``OSError``).
+    ``ValueError`` or ``OSError``). :meth:`target` reads the operator's ``output``,
+    ``output_dir`` and ``seed`` (added by ``properties.registry_settings``).
     """
 
     def execute(self, context):

@@ -1,11 +1,18 @@
-"""``texsynth.synthesize_material``: a whole tileable material in one step (paper 002, sec. 3.2).
+"""``texsynth.synthesize_material``: the maps of a material synthesized together, the active
+one leading (paper 002, Neubeck, Zalesny and Van Gool, sections 2.3 and 3.2).
 
-The active Image Texture node's image is the support view; the images of the other *selected*
-Image Texture nodes of the material (normal, roughness, height maps of the same size) follow,
-synthesized consistently with it by ``texsynth.synthesize_stack`` (``guided``: each map
-synthesized guided by the support; ``column``: the support's positions copied to every map).
-Each result is a new image in its map's colour space (Non-Color data stays Non-Color), and the
-new images are wired into a COPY of the material, put in the object's active material slot; the
+The active Image Texture node's image is the support; the images of the other *selected* Image
+Texture nodes of the material (normal, roughness, height maps of the same size) follow it,
+through ``texsynth.synthesize_stack``:
+
+* ``GUIDED`` (sec. 3.2): each map synthesized guided by the support, weight ``support_weight``
+  (the paper's c): fewer seams, slower;
+* ``COLUMN`` (sec. 2.3): the support's pixel positions copied to every map: fast and exactly
+  registered, may show more seams.
+
+The support's method must copy exemplar pixels (``efros_leung``, ``multiscale_mrf``). Each
+result is a new image in its map's colour space (Non-Color data stays Non-Color), and the new
+images are wired into a COPY of the material, put in the object's active material slot; the
 original material is left as it was. Everything is checked and computed before anything is
 made: on error or cancel the file is unchanged.
 """
@@ -13,9 +20,8 @@ made: on error or cancel the file is unchanged.
 import bpy
 
 from .. import texsynth
-from . import output, properties, source
+from . import output, pixels, properties, source
 from .job import Job, JobOperator
-from .panel import SidebarPanel
 
 MODE_ITEMS = (
     ("GUIDED", "Guided", "Synthesize each map guided by the active one (paper 002, sec. 3.2): "
@@ -25,20 +31,58 @@ MODE_ITEMS = (
 )
 
 
+def material_maps(operator, context):
+    """``(source, method, maps)``: the support, then each follower map, checked and copied.
+
+    ``maps`` holds ``(node name, pixels, encoding, target)`` of the source image, then of each
+    follower node's image. Raises ``ValueError`` when the operator's method copies no pixels
+    or a map's size differs from the source's.
+    """
+    properties.fill_unset(operator, context.scene.texsynth)
+    src = source.find_source(context)
+    method = properties.selected_method(operator)
+    if not method.positions:
+        names = ", ".join(m.label for m in texsynth.methods() if m.positions)
+        raise ValueError(f"{method.label} does not copy pixels, so the maps of a material cannot "
+                         f"follow it; choose {names}")
+    maps = []
+    for node_name, image in [(src.node, bpy.data.images[src.image])] + [
+            (n.name, n.image) for n in source.follower_nodes(context, src)]:
+        values, encoding = pixels.read_exemplar(image)
+        if maps and values.shape[:2] != maps[0][1].shape[:2]:
+            h, w = maps[0][1].shape[:2]
+            raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
+                             f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
+                             f"'{src.image}': the maps of a material must have one size")
+        maps.append((node_name, values, encoding, operator.target(image.name, method.name)))
+    return src, method, maps
+
+
+@properties.registry_settings()
 class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
-    """Synthesize the active Image Texture node's image and the other selected Image Texture
-    nodes' maps consistently, into new images wired into a copy of the material"""
+    """Synthesize the active Image Texture node's image and make the other selected Image
+    Texture nodes' maps follow it, into new images wired into a copy of the material"""
 
     bl_idname = "texsynth.synthesize_material"
     bl_label = "Synthesize Material"
     bl_options = {"REGISTER", "UNDO"}
 
+    # Method, size, seed, output and every method's parameters: added by registry_settings.
     mode: bpy.props.EnumProperty(name="Mode", items=MODE_ITEMS, default="GUIDED",
                                  options={"SKIP_SAVE"})
     support_weight: bpy.props.FloatProperty(
         name="Support Weight", default=texsynth.stack.C_SUPPORT, min=0.0, max=1.0,
         description="Weight c of the active map in the guided distance (paper 002: 0.25)",
         options={"SKIP_SAVE"})
+
+    @classmethod
+    def poll(cls, context):
+        try:
+            source.find_source(context)
+        except ValueError as error:
+            cls.poll_message_set(str(error))
+            return False
+        return True
 
     def draw(self, context):
         properties.draw_settings(self.layout, self, self)
@@ -48,8 +92,7 @@ class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
 
     def prepare(self, context):
         """Check everything and copy every map out of Blender; raises ``ValueError``."""
-        src, method, maps = source.material_maps(
-            self, context, "the maps of a material", "the maps of a material must have one size")
+        src, method, maps = material_maps(self, context)
         job = Job(texsynth.synthesize_stack, [m[1] for m in maps], self.width, self.height,
                   support=0, method=method.name, seed=self.seed, mode=self.mode.lower(),
                   c=self.support_weight, **properties.param_values(self, method))
@@ -79,32 +122,5 @@ class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
                 f"material '{material.name}'")
 
 
-class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):
-    """Under the Texture Synthesis panel: the maps that will follow, and the button."""
-
-    bl_label = "Whole Material"
-    bl_parent_id = "TEXSYNTH_PT_synthesize"
-
-    def draw(self, context):
-        layout = self.layout
-        try:
-            src = source.find_source(context)
-        except ValueError as error:
-            layout.label(text=str(error), icon="INFO")
-            return
-        layout.label(text=f"{src.image} (support)", icon="IMAGE_DATA")
-        for node in source.follower_nodes(context, src):
-            layout.label(text=node.image.name, icon="IMAGE_DATA")
-        layout.operator(TEXSYNTH_OT_synthesize_material.bl_idname, icon="MATERIAL")
-
-
-classes = (TEXSYNTH_OT_synthesize_material, TEXSYNTH_PT_material)
-register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
-
-
-def register():
-    TEXSYNTH_OT_synthesize_material.__annotations__.update(properties.operator_annotations())
-    register_classes()
-
-
-unregister = unregister_classes
+classes = (TEXSYNTH_OT_synthesize_material,)
+register, unregister = bpy.utils.register_classes_factory(classes)

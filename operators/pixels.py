@@ -10,9 +10,10 @@ How Blender hands out ``Image.pixels`` decides the colour handling:
 texsynth synthesizes the values as Blender hands them out, so the result has the source's
 encoding and looks the same. Grey images (R = G = B) are synthesized as one channel, and an
 opaque alpha is dropped and restored. A result is stored either as bytes (same colour space as
-a byte source; float sources are encoded to sRGB) or as floats (scene-linear, premultiplied:
-sRGB bytes are decoded on the way; bytes in another colour space keep their values and their
-colour-space tag, so Blender converts them on load).
+a byte source; float sources are encoded to sRGB, or kept as they are when Non-Color) or as
+floats (scene-linear, premultiplied: sRGB bytes are decoded on the way; bytes in another colour
+space, Non-Color included, keep their values and their colour-space tag, so Blender converts
+them on load).
 """
 
 from dataclasses import dataclass

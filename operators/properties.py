@@ -1,24 +1,34 @@
-"""Settings generated from the texsynth registry: the scene's ``scene.texsynth`` and the operators.
+"""Every setting TexSynth stores, in one place: the property groups behind ``scene.texsynth``
+and the settings the operators take.
 
-The scene settings (the panel) hold ``method`` (enum, the registry's names upper-cased),
-``width``, ``height``, ``seed``, ``output``, ``output_dir`` and ``params``: one property group
-per method, ``scene.texsynth.params.<method>.<param>``, made from that method's ``Param`` specs
-with its own default and range. Methods that share a parameter name (``levels``, ``threshold``)
-keep their own values, and switching method shows the values last used with it.
+``scene.texsynth`` (:class:`TEXSYNTH_PG_settings`, attached by :func:`register` and nowhere
+else) holds:
 
-An operator carries the same settings flat, one property per parameter name
-(``bpy.ops.texsynth.synthesize(method="COOCCURRENCE", levels=16)``): a name shared by several
-methods is one property whose type they must agree on (else registration fails, naming them),
-whose enum items are all their choices and whose soft range covers all their ranges. A property
-the caller leaves unset is taken from the scene's group of the chosen method
-(:func:`fill_unset`), so the operator's own defaults are never used for a run.
+* ``method`` (enum, the registry's names upper-cased), ``width``, ``height``, ``seed``,
+  ``output``, ``output_dir``: the panel's synthesis settings;
+* ``params.<method>.<param>``: one group per registry method, made from its ``Param`` specs
+  with its own defaults and ranges, so methods sharing a parameter name (``levels``,
+  ``threshold``) keep their own values;
+* ``composite``: the composite panel's label image and painted layout;
+* ``plane``: the plane estimate's photo, settings and last result.
+
+:func:`param_property` is the one translation of a registry ``Param`` into a bpy property,
+used for the scene's groups and, through :func:`registry_settings`, for the operators. An
+operator decorated with :func:`registry_settings` carries the settings flat, one property per
+parameter name (``bpy.ops.texsynth.synthesize(method="COOCCURRENCE", levels=16)``); a name
+shared by several methods is one property whose type they must agree on (else the import fails,
+naming them), whose enum items are all their choices and whose soft range covers all their
+ranges. A property the caller leaves unset is taken from the scene (:func:`fill_unset`), so
+an operator's own defaults are never used for a run.
 
 Numbers get soft limits only (the sliders' range): a value outside the range, typed or passed
-from a script, reaches ``texsynth.synthesize`` and comes back as an error report rather than
-being clamped without a word.
+from a script, reaches the core and comes back as an error report rather than being clamped
+without a word.
 """
 
 import dataclasses
+import inspect
+import math
 
 import bpy
 
@@ -34,9 +44,20 @@ OUTPUT_ITEMS = (
 )
 #: The settings every synthesis has besides the method's parameters.
 COMMON = ("method", "width", "height", "seed", "output", "output_dir")
+#: The plane estimate's methods offered to users (the core's "moments" baseline is for
+#: benchmarks only).
+PLANE_METHOD_ITEMS = (
+    ("AUTO", "Auto", "Isotropy and homogeneity under perspective: the receding direction and, "
+                     "when the focal length is unknown, an estimate of it"),
+    ("ISOTROPY", "Isotropy", "Orthographic isotropy search: tilt known only up to 180 degrees"),
+)
 
 
-def _param_property(p: texsynth.Param, options: set):
+# --- registry parameters as bpy properties -------------------------------------------------
+
+
+def param_property(p: texsynth.Param, options: set):
+    """The bpy property holding parameter ``p``: its type, label, default and soft range."""
     common = {"name": p.label, "description": p.description, "default": p.default,
               "options": options}
     if p.type is bool:
@@ -75,7 +96,7 @@ def shared_params(methods) -> dict[str, texsynth.Param]:
     return merged
 
 
-def _common_annotations(options: set, methods) -> dict:
+def _common_properties(options: set, methods) -> dict:
     size = {"default": 1024, "soft_min": 1, "soft_max": texsynth.MAX_SIDE, "subtype": "PIXEL",
             "options": options}
     return {
@@ -103,7 +124,7 @@ def _common_annotations(options: set, methods) -> dict:
     }
 
 
-def operator_annotations(methods=None) -> dict:
+def operator_properties(methods=None) -> dict:
     """An operator's settings: the common ones and every parameter of ``methods``, flat.
 
     ``methods`` defaults to the whole registry; given, the operator runs those methods only
@@ -113,12 +134,35 @@ def operator_annotations(methods=None) -> dict:
     fixed = methods is not None and len(methods) == 1
     methods = texsynth.methods() if methods is None else methods
     options = {"SKIP_SAVE"}
-    annotations = _common_annotations(options, methods)
+    annotations = _common_properties(options, methods)
     if fixed:
         del annotations["method"]
     for name, p in shared_params(methods).items():
-        annotations[name] = _param_property(p, options)
+        annotations[name] = param_property(p, options)
     return annotations
+
+
+def registry_settings(*method_names: str):
+    """Class decorator: add :func:`operator_properties` to an operator's own properties.
+
+    No names: every registry method, chosen by a ``method`` property; names: those methods
+    only, and no ``method`` property when there is one.
+    """
+    methods = tuple(texsynth.get_method(name) for name in method_names) or None
+
+    def decorate(cls):
+        cls.__annotations__ = {**inspect.get_annotations(cls), **operator_properties(methods)}
+        return cls
+
+    return decorate
+
+
+# --- reading the settings ------------------------------------------------------------------
+
+
+def selected_method(settings) -> texsynth.Method:
+    """The registry method chosen by ``settings.method`` (the scene's or an operator's)."""
+    return texsynth.get_method(settings.method.lower())
 
 
 def method_settings(settings, method: texsynth.Method):
@@ -127,8 +171,8 @@ def method_settings(settings, method: texsynth.Method):
 
 
 def param_values(holder, method: texsynth.Method) -> dict:
-    """``method``'s parameters as ``texsynth.synthesize`` takes them, read from ``holder`` (an
-    operator, or the scene's group of that method)."""
+    """``method``'s parameters as the core takes them, read from ``holder`` (an operator, or
+    the scene's group of that method)."""
     return {p.name: getattr(holder, p.name) for p in method.params}
 
 
@@ -149,8 +193,7 @@ def fill_unset(operator, settings, method: texsynth.Method | None = None) -> Non
             setattr(operator, p.name, getattr(values, p.name))
 
 
-def selected_method(settings) -> texsynth.Method:
-    return texsynth.get_method(settings.method.lower())
+# --- drawing the settings (the sidebar and the operators' redo panels) ---------------------
 
 
 def draw_params(layout, holder, method: texsynth.Method) -> None:
@@ -178,42 +221,103 @@ def draw_settings(layout, settings, params=None) -> None:
         layout.prop(settings, "output_dir")
 
 
+# --- the scene's property groups -----------------------------------------------------------
+
+
 def _method_group(method: texsynth.Method) -> type:
     """A property group class holding ``method``'s parameters with its own defaults."""
     return type(f"TEXSYNTH_PG_{method.name}", (bpy.types.PropertyGroup,), {
         "__doc__": f"{method.label} parameters, per scene",
-        "__annotations__": {p.name: _param_property(p, set()) for p in method.params},
+        "__annotations__": {p.name: param_property(p, set()) for p in method.params},
     })
 
 
-class TEXSYNTH_PG_params(bpy.types.PropertyGroup):
-    """One group per method (added by register()): ``scene.texsynth.params.<method>``."""
+_METHODS = texsynth.methods()
+_METHOD_GROUPS = tuple(_method_group(m) for m in _METHODS)
+
+TEXSYNTH_PG_params = type("TEXSYNTH_PG_params", (bpy.types.PropertyGroup,), {
+    "__doc__": "One group per method: ``scene.texsynth.params.<method>``",
+    "__annotations__": {m.name: bpy.props.PointerProperty(type=group)
+                        for m, group in zip(_METHODS, _METHOD_GROUPS, strict=True)},
+})
 
 
-class TEXSYNTH_PG_settings(bpy.types.PropertyGroup):
-    """The panel's settings, stored per scene; the operators fall back on them."""
+class TEXSYNTH_PG_composite(bpy.types.PropertyGroup):
+    """The composite panel's image choices: ``scene.texsynth.composite``."""
+
+    label_image: bpy.props.PointerProperty(
+        type=bpy.types.Image, name="Labels",
+        description="Label image of the exemplar (same size, one flat colour per class); "
+                    "empty: automatic segmentation")
+    output_labels: bpy.props.PointerProperty(
+        type=bpy.types.Image, name="Layout",
+        description="Painted output label map in the label image's colours (its size is the "
+                    "output's); empty: synthesized from the label texture")
 
 
-_groups: list[type] = []
+class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
+    """The last plane estimate and the estimate panels' settings: ``scene.texsynth.plane``."""
+
+    photo: bpy.props.PointerProperty(
+        name="Photo", type=bpy.types.Image,
+        description="Photo of a textured plane (the 3D View panel's source; the Image Editor "
+                    "uses the image it shows)")
+    method: bpy.props.EnumProperty(name="Method", items=PLANE_METHOD_ITEMS, default="AUTO",
+                                   description="How the orientation is estimated")
+    use_camera_focal: bpy.props.BoolProperty(
+        name="Taken with Scene Camera",
+        description="The photo was taken with the scene camera's lens and sensor: use its focal "
+                    "length instead of estimating it")
+    add_background: bpy.props.BoolProperty(
+        name="Photo as Background", default=True,
+        description="Show the photo as the camera's background image when aligning")
+    has_estimate: bpy.props.BoolProperty(name="Has Estimate", options={"HIDDEN"})
+    image: bpy.props.StringProperty(name="Estimated Image",
+                                    description="Name of the image the estimate was made on")
+    image_width: bpy.props.IntProperty(name="Width", subtype="PIXEL", options={"HIDDEN"})
+    image_height: bpy.props.IntProperty(name="Height", subtype="PIXEL", options={"HIDDEN"})
+    slant: bpy.props.FloatProperty(
+        name="Slant", subtype="ANGLE", min=0.0, max=math.radians(89.9),
+        description="Angle between the plane's normal and the camera's optical axis")
+    tilt: bpy.props.FloatProperty(
+        name="Tilt", subtype="ANGLE",
+        description="Image direction in which the plane recedes, counter-clockwise from right")
+    focal_px: bpy.props.FloatProperty(
+        name="Focal Length", subtype="PIXEL", min=0.0,
+        description="Focal length in pixels of the photo; 0: orthographic (unknown)")
+    focal_estimated: bpy.props.BoolProperty(name="Focal Estimated", options={"HIDDEN"})
+    tilt_ambiguous: bpy.props.BoolProperty(
+        name="Tilt Ambiguous",
+        description="The receding direction is not determined: tilt + 180 degrees fits as well")
+    confidence: bpy.props.FloatProperty(name="Confidence", subtype="FACTOR", min=0.0, max=1.0,
+                                        description="How far the estimate can be trusted")
+    uncertainty: bpy.props.FloatProperty(
+        name="Uncertainty", subtype="ANGLE", min=0.0,
+        description="One-sigma uncertainty of the plane normal")
+    rectified: bpy.props.StringProperty(name="Rectified Image",
+                                        description="Name of the last rectified image")
+
+
+TEXSYNTH_PG_settings = type("TEXSYNTH_PG_settings", (bpy.types.PropertyGroup,), {
+    "__doc__": "Everything TexSynth keeps per scene: ``scene.texsynth``",
+    "__annotations__": {
+        **_common_properties(set(), _METHODS),
+        "params": bpy.props.PointerProperty(type=TEXSYNTH_PG_params),
+        "composite": bpy.props.PointerProperty(type=TEXSYNTH_PG_composite),
+        "plane": bpy.props.PointerProperty(type=TEXSYNTH_PG_plane),
+    },
+})
+
+classes = (*_METHOD_GROUPS, TEXSYNTH_PG_params, TEXSYNTH_PG_composite, TEXSYNTH_PG_plane,
+           TEXSYNTH_PG_settings)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
-    methods = texsynth.methods()
-    _groups[:] = [_method_group(m) for m in methods]
-    TEXSYNTH_PG_params.__annotations__ = {
-        m.name: bpy.props.PointerProperty(type=group) for m, group in zip(methods, _groups,
-                                                                          strict=True)}
-    TEXSYNTH_PG_settings.__annotations__ = {
-        **_common_annotations(set(), methods),
-        "params": bpy.props.PointerProperty(type=TEXSYNTH_PG_params),
-    }
-    for cls in (*_groups, TEXSYNTH_PG_params, TEXSYNTH_PG_settings):
-        bpy.utils.register_class(cls)
+    _register_classes()
     bpy.types.Scene.texsynth = bpy.props.PointerProperty(type=TEXSYNTH_PG_settings)
 
 
 def unregister():
     del bpy.types.Scene.texsynth
-    for cls in reversed((*_groups, TEXSYNTH_PG_params, TEXSYNTH_PG_settings)):
-        bpy.utils.unregister_class(cls)
-    _groups.clear()
+    _unregister_classes()

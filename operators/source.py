@@ -1,12 +1,9 @@
-"""Which image to synthesize from (a named image, or the active Image Texture node's), and the
-other maps of its material that follow it."""
+"""Which image to work on (a named image, or the active Image Texture node's), and the other
+maps of its material that follow it (the selected Image Texture nodes)."""
 
 from dataclasses import dataclass
 
 import bpy
-
-from .. import texsynth
-from . import pixels, properties
 
 
 @dataclass(frozen=True)
@@ -19,7 +16,8 @@ class Source:
 
 
 def find_source(context, image_name: str = "") -> Source:
-    """Raise ``ValueError`` saying what to select when there is no usable source."""
+    """The image named ``image_name``, else the active Image Texture node's image (with its
+    material and node); ``ValueError`` saying what to select when there is none."""
     if image_name:
         if image_name not in bpy.data.images:
             raise ValueError(f"No image named '{image_name}'")
@@ -57,30 +55,3 @@ def follower_nodes(context, src: Source):
     tree = bpy.data.materials[src.material].node_tree
     return [n for n in tree.nodes if n.select and n.bl_idname == "ShaderNodeTexImage"
             and n.name != src.node and n.image is not None]
-
-
-def material_maps(operator, context, followers: str, why: str):
-    """``(source, method, maps)`` for an operator whose other maps follow the source's pixels.
-
-    ``maps`` holds ``(node name, pixels, encoding, target)`` of the source image, then of each
-    follower node's image. Raises ``ValueError`` when the operator's method copies no pixels
-    (which ``followers`` need) or a map's size differs from the source's (saying ``why``).
-    """
-    properties.fill_unset(operator, context.scene.texsynth)
-    src = find_source(context)
-    method = properties.selected_method(operator)
-    if not method.positions:
-        names = ", ".join(m.label for m in texsynth.methods() if m.positions)
-        raise ValueError(f"{method.label} does not copy pixels, so {followers} cannot follow "
-                         f"it; choose {names}")
-    maps = []
-    for node_name, image in [(src.node, bpy.data.images[src.image])] + [
-            (n.name, n.image) for n in follower_nodes(context, src)]:
-        values, encoding = pixels.read_exemplar(image)
-        if maps and values.shape[:2] != maps[0][1].shape[:2]:
-            h, w = maps[0][1].shape[:2]
-            raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
-                             f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
-                             f"'{src.image}': {why}")
-        maps.append((node_name, values, encoding, operator.target(image.name, method.name)))
-    return src, method, maps

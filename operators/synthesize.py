@@ -1,8 +1,12 @@
 """``texsynth.synthesize``: a new seamless image and Image Texture node from a source image.
 
-Properties the caller did not set are taken from the scene settings (``scene.texsynth``, the
-panel). The run, worker thread, progress and Esc are :class:`job.JobOperator`'s; on error or
-cancel the file is unchanged.
+The source is the active Image Texture node's image (the new node goes beside it and takes over
+its links) or an image named by ``source_image`` (no node). Properties the caller did not set
+are taken from the scene settings (``scene.texsynth``, the panel). The run, worker thread,
+progress and Esc are :class:`job.JobOperator`'s; on error or cancel the file is unchanged.
+
+No ``poll()``: a script may name the image, which needs no active node; the panel says what is
+missing instead.
 """
 
 import bpy
@@ -12,6 +16,7 @@ from . import nodes, output, pixels, properties, source
 from .job import Job, JobOperator
 
 
+@properties.registry_settings()
 class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
     """Synthesize a seamless texture of any size from the active Image Texture node's image into a
     new image and node"""
@@ -20,8 +25,7 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
     bl_label = "Synthesize Texture"
     bl_options = {"REGISTER", "UNDO"}
 
-    # Further properties (method, size, seed, output, the methods' parameters) are added by
-    # register() from the texsynth registry.
+    # Method, size, seed, output and every method's parameters: added by registry_settings.
     source_image: bpy.props.StringProperty(
         name="Source Image",
         description="Name of the image to synthesize from; empty: the active Image Texture node's "
@@ -57,12 +61,4 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
 
 
 classes = (TEXSYNTH_OT_synthesize,)
-register_classes, unregister_classes = bpy.utils.register_classes_factory(classes)
-
-
-def register():
-    TEXSYNTH_OT_synthesize.__annotations__.update(properties.operator_annotations())
-    register_classes()
-
-
-unregister = unregister_classes
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -205,7 +205,8 @@ def run(ctx) -> str:
         "Both methods copy whole exemplar pixels, so they return a position map (row, col into "
         "the exemplar) through `texsynth.synthesize_positions`; `texsynth.apply_positions` "
         "re-applies it to another map of the material (the Blender operator "
-        "`texsynth.synthesize_maps` does this for the selected Image Texture nodes). Output "
+        "`texsynth.synthesize_material`, mode Column, does this for the selected Image Texture "
+        "nodes). Output "
         "neighbourhoods wrap around the canvas, so every result tiles.",
         "",
         f"### multiscale_mrf {side} -> {out_side}, beside Resynthesizer",

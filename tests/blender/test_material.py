@@ -73,6 +73,49 @@ def test_material_copy_gets_consistent_tileable_maps(addon, mode):
         assert relation < 0.1 and normal_error < 0.05
 
 
+def test_in_column_mode_every_map_shows_the_pixel_the_active_one_copied(addon):
+    colour = noise(24, 32, seed=1)
+    tree = material_with(generated_image(colour, name="colour"))
+    # A roughness map whose every pixel is unique: where each output pixel came from is
+    # readable from its value.
+    ids = (np.arange(24 * 32, dtype=np.float32).reshape(24, 32, 1) + 1) / (24 * 32 + 1)
+    _follower(tree, generated_image(ids, name="rough", float_buffer=True,
+                                    colorspace="Non-Color"), "rough node", "Roughness")
+    tree.nodes["source node"].select = True
+    images_before = set(bpy.data.images)
+
+    assert bpy.ops.texsynth.synthesize_material(mode="COLUMN", **FAST) == {"FINISHED"}
+
+    made = {i.name: i for i in set(bpy.data.images) - images_before}
+    assert set(made) == {"colour_multiscale_mrf_0", "rough_multiscale_mrf_0"}
+    moved = pixels_of(made["rough_multiscale_mrf_0"])[:, :, 0] * (24 * 32 + 1) - 1
+    index = np.rint(moved).astype(int)
+    assert tuple(made["rough_multiscale_mrf_0"].size) == (40, 32)
+    assert len(np.unique(index)) > 20
+    expected = colour.reshape(-1, 3)[index]
+    got = pixels_of(made["colour_multiscale_mrf_0"])[:, :, :3]
+    assert np.abs(got - expected).max() < 1.5 / 255  # the colour result is stored as bytes
+    nodes = bpy.context.active_object.active_material.node_tree.nodes
+    assert nodes["rough node"].image == made["rough_multiscale_mrf_0"]
+    assert nodes["rough node"].outputs["Color"].links[0].to_socket.name == "Roughness"
+
+
+def test_without_an_active_image_node_the_operator_is_greyed_out_and_says_why():
+    op = bpy.ops.texsynth.synthesize_material
+    assert not op.poll()
+    with pytest.raises(RuntimeError, match=r"poll\(\) No active object: select the object"):
+        op(**FAST)
+    tree = _material(noise(24, 32))
+    tree.nodes.active = tree.nodes["Principled BSDF"]
+    before = fingerprint()
+    assert not op.poll()
+    with pytest.raises(RuntimeError, match="is a Principled BSDF node, not an Image Texture"):
+        op(**FAST)
+    assert fingerprint() == before
+    tree.nodes.active = tree.nodes["source node"]
+    assert op.poll()
+
+
 def test_maps_of_another_size_or_a_method_without_positions_change_nothing(addon):
     tree = _material(noise(24, 32))
     _follower(tree, generated_image(noise(16, 16), name="small"), "small node", "Alpha")

@@ -1,0 +1,160 @@
+"""Every TexSynth panel: what the user sees, in the sidebars' TexSynth tab.
+
+Shader Editor (a material's node tree):
+
+* **Texture Synthesis** (:class:`TEXSYNTH_PT_synthesize`): the source image, the settings of
+  ``scene.texsynth`` and the ``texsynth.synthesize`` button; under it
+* **Material Maps** (:class:`TEXSYNTH_PT_material`): the maps that follow the active one and
+  ``texsynth.synthesize_material`` (guided or column);
+* **Composite** (:class:`TEXSYNTH_PT_composite`): label image, segmentation, painted layout
+  and ``texsynth.synthesize_composite``.
+
+Image Editor and 3D View: **Plane from Texture** (:class:`TEXSYNTH_PT_plane_image`,
+:class:`TEXSYNTH_PT_plane_view3d`): estimate, align the camera, rectify, synthesize.
+
+Panels only draw: the settings are declared in ``properties.py``, the work is the operators'.
+"""
+
+import bpy
+
+from .. import texsynth
+from . import composite, properties, source
+
+
+class SidebarPanel:
+    """Mixin of the panels of the TexSynth tab of the Shader Editor's sidebar."""
+
+    bl_space_type = "NODE_EDITOR"
+    bl_region_type = "UI"
+    bl_category = "TexSynth"
+
+    @classmethod
+    def poll(cls, context):
+        return getattr(context.space_data, "tree_type", "") == "ShaderNodeTree"
+
+
+def _source_or_reason(layout, context):
+    """The active Image Texture node's source, or None after a label saying what is missing."""
+    try:
+        return source.find_source(context)
+    except ValueError as error:
+        layout.label(text=str(error), icon="INFO")
+        return None
+
+
+class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
+    """The source image, the synthesis settings and the button."""
+
+    bl_label = "Texture Synthesis"
+
+    def draw(self, context):
+        layout = self.layout
+        found = _source_or_reason(layout, context)
+        if found is not None:
+            layout.label(text=found.image, icon="IMAGE_DATA")
+        properties.draw_settings(layout, context.scene.texsynth)
+        layout.operator("texsynth.synthesize", icon="TEXTURE")
+
+
+class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):
+    """Under the Texture Synthesis panel: the maps that will follow the active one, and the
+    buttons of the two modes."""
+
+    bl_label = "Material Maps"
+    bl_parent_id = "TEXSYNTH_PT_synthesize"
+
+    def draw(self, context):
+        layout = self.layout
+        method = properties.selected_method(context.scene.texsynth)
+        if not method.positions:
+            layout.label(text="Choose a method that copies pixels", icon="INFO")
+            return
+        src = _source_or_reason(layout, context)
+        if src is None:
+            return
+        layout.label(text=f"{src.image} (support)", icon="IMAGE_DATA")
+        followers = source.follower_nodes(context, src)
+        if not followers:
+            layout.label(text="Select other Image Texture nodes to follow", icon="INFO")
+        for node in followers:
+            layout.label(text=node.image.name, icon="IMAGE_DATA")
+        row = layout.row(align=True)
+        row.operator("texsynth.synthesize_material", text="Guided", icon="MATERIAL").mode = \
+            "GUIDED"
+        row.operator("texsynth.synthesize_material", text="Column", icon="NODE_MATERIAL").mode = \
+            "COLUMN"
+
+
+class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
+    """Under the Texture Synthesis panel: label source, segmentation, layout and the button."""
+
+    bl_label = "Composite"
+    bl_parent_id = "TEXSYNTH_PT_synthesize"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.scene.texsynth
+        layout.template_ID(settings.composite, "label_image", open="image.open")
+        layout.operator("texsynth.segment", icon="IMAGE_RGB")
+        layout.template_ID(settings.composite, "output_labels", open="image.open")
+        method = texsynth.get_method(composite.METHOD)
+        properties.draw_params(layout, properties.method_settings(settings, method), method)
+        layout.operator("texsynth.synthesize_composite", icon="TEXTURE")
+
+
+class PlanePanel:
+    """Mixin of the two Plane from Texture panels; ``in_image_editor``: the photo is the
+    editor's image, else the panel's ``photo``."""
+
+    bl_label = "Plane from Texture"
+    bl_region_type = "UI"
+    bl_category = "TexSynth"
+    in_image_editor = False
+
+    def draw(self, context):
+        settings = context.scene.texsynth.plane
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        if not self.in_image_editor:
+            layout.prop(settings, "photo")
+        layout.prop(settings, "method")
+        row = layout.row()
+        row.enabled = settings.method == "AUTO"
+        row.prop(settings, "use_camera_focal")
+        layout.operator("texsynth.estimate_plane", icon="VIEW_PERSPECTIVE")
+        if not settings.has_estimate:
+            return
+        box = layout.box()
+        box.label(text=f"Estimate of '{settings.image}'", icon="IMAGE_DATA")
+        box.prop(settings, "slant")
+        box.prop(settings, "tilt")
+        if settings.tilt_ambiguous:
+            box.label(text="Tilt may be off by 180°", icon="INFO")
+        box.prop(settings, "focal_px")
+        box.prop(settings, "confidence")
+        layout.prop(settings, "add_background")
+        layout.operator("texsynth.align_camera", icon="CAMERA_DATA")
+        column = layout.column(align=True)
+        column.label(text="Rectify, then synthesize:")
+        column.operator("texsynth.rectify", icon="IMAGE_PLANE")
+        if settings.rectified in bpy.data.images:
+            op = column.operator("texsynth.synthesize", icon="TEXTURE",
+                                 text=f"Synthesize from '{settings.rectified}'")
+            op.source_image = settings.rectified
+
+
+class TEXSYNTH_PT_plane_image(PlanePanel, bpy.types.Panel):
+    bl_space_type = "IMAGE_EDITOR"
+    in_image_editor = True
+
+
+class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
+    bl_space_type = "VIEW_3D"
+
+
+classes = (TEXSYNTH_PT_synthesize, TEXSYNTH_PT_material, TEXSYNTH_PT_composite,
+           TEXSYNTH_PT_plane_image, TEXSYNTH_PT_plane_view3d)
+register, unregister = bpy.utils.register_classes_factory(classes)
