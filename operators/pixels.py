@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..texsynth import io
+from ..texsynth.blocks import color
 
 SUPPORTED_SOURCES = {"FILE", "GENERATED"}
 
@@ -81,7 +81,7 @@ def as_float(result: np.ndarray, encoding: Encoding) -> tuple[np.ndarray, str | 
         return rgba, "Non-Color" if encoding.is_data else None
     rgba = np.clip(rgba, 0.0, 1.0)
     if encoding.colorspace == "sRGB":
-        rgba[:, :, :3] = io.srgb_to_linear(rgba[:, :, :3])
+        rgba[:, :, :3] = color.srgb_to_linear(rgba[:, :, :3])
         colorspace = None
     else:
         colorspace = encoding.colorspace
@@ -99,7 +99,7 @@ def as_bytes(result: np.ndarray, encoding: Encoding) -> tuple[np.ndarray, str]:
     if encoding.is_data:
         colorspace = "Non-Color"
     else:
-        rgb, colorspace = io.linear_to_srgb(np.maximum(rgb, 0.0)), "sRGB"
+        rgb, colorspace = color.linear_to_srgb(np.maximum(rgb, 0.0)), "sRGB"
     rgba = np.concatenate([rgb, alpha], axis=2)
     return np.clip(rgba, 0.0, 1.0), colorspace
 

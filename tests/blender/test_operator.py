@@ -12,6 +12,7 @@ import pytest
 from scenes import generated_image, links, material_with, noise, pixels_of, synthesize
 
 from texsynth import io
+from texsynth.blocks import color
 
 FAST = {"iterations": 2, "scales": 2}
 
@@ -213,7 +214,7 @@ def test_a_png_of_a_float_source_holds_its_srgb_encoding(tmp_path):
     assert not image.is_float and image.colorspace_settings.name == "sRGB"
     encoded = io.read_png(bpy.path.abspath(image.filepath))
     np.testing.assert_allclose(encoded.mean(axis=(0, 1)),
-                               io.linear_to_srgb(linear).mean(axis=(0, 1)), atol=0.02)
+                               color.linear_to_srgb(linear).mean(axis=(0, 1)), atol=0.02)
 
 
 def test_non_color_data_stays_as_it_is(tmp_path):
