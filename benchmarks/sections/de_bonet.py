@@ -65,24 +65,11 @@ def _comparison(ctx, side):
 def _sweep(ctx, side):
     tex = _pick(ctx, SWEEP_TEXTURE)
     ex = _crop(tex.image, side // 2)
-    levels = db.pyramid_depth(ex.shape, side, side, DEFAULTS["scales"])
-    features = db.pyramid_features(periodic_component(ex), SteerablePyramid(ex.shape[:2], levels),
-                                   LaplacianPyramid(ex.shape[:2], levels))
-    out_shapes = LaplacianPyramid((side, side), levels).level_shapes
-    images, lines = [], []
-    for threshold in SWEEP:
-        stats = []
-        db.sample_pyramid(features, out_shapes, threshold, 3, np.random.default_rng(SEED),
-                          Progress(), stats)
-        images.append(texsynth.synthesize(ex, side, side, method="de_bonet", seed=SEED,
-                                          threshold=threshold))
-        finest = stats[-1]
-        lines.append(f"| {threshold} | {finest['candidates'] / finest['queries']:.2f} | "
-                     f"{100 * finest['empty'] / finest['queries']:.1f}% | "
-                     + " / ".join(f"{s['candidates'] / s['queries']:.1f}" for s in stats) + " |")
+    images = [texsynth.synthesize(ex, side, side, method="de_bonet", seed=SEED,
+                                  threshold=threshold) for threshold in SWEEP]
     path = ctx.contact_sheet("de_bonet_sweep.png", [f"threshold {t}" for t in SWEEP], [images],
                              cell=side)
-    return tex.short, path, lines
+    return tex.short, path
 
 
 def _per_channel(ex, side, threshold):
@@ -146,7 +133,7 @@ def _timing(ctx, sizes):
 def run(ctx) -> str:
     side = 128 if ctx.quick else 256
     sheets, table, summary = _comparison(ctx, side)
-    sweep_name, sweep, sweep_lines = _sweep(ctx, 128 if ctx.quick else 512)
+    sweep_name, sweep = _sweep(ctx, 128 if ctx.quick else 512)
     colour = [] if ctx.quick else _colour(ctx, 256)
     timing = _timing(ctx, (128, 256) if ctx.quick else (512, 1024, 2048, 4096))
     out = [
@@ -182,11 +169,6 @@ def run(ctx) -> str:
         "beyond about 1 the structure dissolves into texture noise.",
         "",
         f"![threshold sweep]({sweep})",
-        "",
-        "| threshold | candidates per location, finest level | none within (nearest copied) "
-        "| candidates per location, coarse to fine |",
-        "|---|---|---|---|",
-        *sweep_lines,
         "",
     ]
     if colour:

@@ -4,9 +4,9 @@ Guerquin-Kern and Unser 2009).
 Evidence: the paper's Fig. 4 layout (exemplar | plain | steered | steered + joint) for several
 textures, the structure distance of every texture for each variant (a measure none of the
 variants optimises), the time of each variant at 512^2 against plain Heeger-Bergen, the
-measurements behind choices the paper leaves open (the number of bins; Parzen smoothing of the
-multidimensional histogram, its future work, measured and not adopted), and what joint matching
-does without steering.
+measurement behind a choice the paper leaves open (the number of bins; Parzen smoothing of the
+multidimensional histogram, its future work, was measured once and not adopted: see git history),
+and what joint matching does without steering.
 """
 
 from __future__ import annotations
@@ -14,8 +14,6 @@ from __future__ import annotations
 import numpy as np
 
 import texsynth
-import texsynth.algorithms.heeger_bergen as heeger_bergen_module
-from texsynth.blocks.histogram import JointTarget
 
 ORDER = 40
 TITLE = "Heeger-Bergen with steered and joint histogram matching (paper 001)"
@@ -42,32 +40,6 @@ def _distance(quality: dict, word: str) -> float:
 
 def _structure(ctx, exemplar, output) -> float:
     return _distance(ctx.quality(exemplar, output), "structure")
-
-
-class _ParzenTarget(JointTarget):
-    """The joint histogram of a kernel (Parzen) density estimate: every exemplar vector jittered
-    by a Gaussian of ``scale`` times Silverman's bandwidth (paper 001, section 3, future work)."""
-
-    scale = 1.0
-
-    def __init__(self, values, bins=50):
-        flat = np.asarray(values, np.float32).reshape(len(values), -1)
-        k, n = flat.shape
-        bandwidth = self.scale * (4 / (k + 2)) ** (1 / (k + 4)) * n ** (-1 / (k + 4))
-        jitter = np.random.default_rng(0).standard_normal(flat.shape).astype(np.float32)
-        jitter *= bandwidth * flat.std(axis=1, keepdims=True)
-        super().__init__(flat + jitter, bins)
-
-
-def _parzen(exemplar, side, scale):
-    """Steered + joint with the Parzen target in place of the histogram (experiment only)."""
-    _ParzenTarget.scale = scale
-    original = heeger_bergen_module.JointTarget
-    heeger_bergen_module.JointTarget = _ParzenTarget
-    try:
-        return texsynth.synthesize(exemplar, side, side, seed=SEED, steered=True, joint=True)
-    finally:
-        heeger_bergen_module.JointTarget = original
 
 
 def run(ctx) -> str:
@@ -172,18 +144,16 @@ def run(ctx) -> str:
     if ctx.quick:
         return "\n".join(lines)
 
-    # --- bins and Parzen smoothing (choices the paper leaves open) ---------------------------
+    # --- bins (a choice the paper leaves open) --------------------------------------------
     probe = [t for t, _ in table if any(k in t.name for k in FIGURE_TEXTURES)][:6] or \
         [t for t, _ in table][:6]
     lines += [
-        "### Bins per orientation, and Parzen smoothing (steered + joint)",
+        "### Bins per orientation (steered + joint)",
         "",
-        "Parzen: the joint histogram of a Gaussian kernel density estimate (bandwidth = scale x "
-        "Silverman's rule), the paper's suggested way around the quantisation of "
-        "multidimensional histograms. Structure distance; lower is better.",
+        "Structure distance; lower is better.",
         "",
-        "| texture | bins 4 | bins 12 | bins 50 | Parzen x0.5 | Parzen x1 |",
-        "|---|---:|---:|---:|---:|---:|",
+        "| texture | bins 4 | bins 12 | bins 50 |",
+        "|---|---:|---:|---:|",
     ]
     columns = []
     for texture in probe:
@@ -191,7 +161,6 @@ def run(ctx) -> str:
             texture.image, side, side, seed=SEED, steered=True, joint=True, bins=b))
             for b in (4, 12)]
         row.append(_structure(ctx, texture.image, outputs[texture.name, "steered + joint"]))
-        row += [_structure(ctx, texture.image, _parzen(texture.image, side, s)) for s in (0.5, 1)]
         columns.append(row)
         lines.append(f"| {texture.name} | " + " | ".join(f"{v:.4f}" for v in row) + " |")
     mean = np.mean(columns, axis=0)

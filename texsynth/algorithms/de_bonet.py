@@ -150,7 +150,6 @@ class BallSampler:
         self.points = self.project(points)
         self.tree = cKDTree(self.points)
         self.radius = 0.0
-        self.stats = {"queries": 0, "empty": 0, "candidates": 0}
 
     def project(self, vectors: np.ndarray) -> np.ndarray:
         return (np.asarray(vectors, dtype=np.float64) - self.mean) @ self.basis
@@ -192,9 +191,6 @@ class BallSampler:
         empty = count == 0
         if empty.any():
             chosen[empty] = self.tree.query(queries[empty], k=1)[1]
-        self.stats["queries"] += n
-        self.stats["empty"] += int(empty.sum())
-        self.stats["candidates"] += int(count.sum())  # balls past the ladder count as its top
         return chosen
 
     def _reject(self, queries, rng, tries=64):
@@ -211,7 +207,7 @@ class BallSampler:
         return chosen
 
 
-def sample_pyramid(features, out_shapes, threshold, depth, rng, progress, stats=None):
+def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     """Source maps of Algorithm 11.5: per level an (h_l, w_l) int32 array of flat exemplar
     locations. ``features[l]`` are the exemplar's (h_l, w_l, F_l) values; ``out_shapes[l]`` the
     output's level shapes. The coarsest level is the exemplar's, tiled from a random offset."""
@@ -243,8 +239,6 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress, stats=
             src[rows] = sampler.draw(sampler.project(queries), rng)
             step(rows[-1] / (h * w), f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
-        if stats is not None:
-            stats.append(dict(level=level, **sampler.stats))
     return sources
 
 

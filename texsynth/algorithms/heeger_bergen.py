@@ -40,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..blocks.color import ColorPCA
-from ..blocks.histogram import JointTarget, JointWork, TargetHistogram, match, match_joint
+from ..blocks.histogram import BINS, JointTarget, JointWork, TargetHistogram, match, match_joint
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import Coefficients, SteerablePyramid, pyramid_depth
 from ..blocks.steering import Steering
@@ -136,12 +136,15 @@ def _memory(shape, width, height, params):
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
+    The exemplar's share counts its periodic component, PCA and pyramid spectra (tracemalloc:
+    about 95 B a pixel at K = 4), and the fast matching's cumulative histograms (``BINS`` each);
+    tests/test_contract.py holds the estimate above the measured peak.
     """
     k = params["orientations"]
-    per_pixel = 8 * shape[2] + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
+    per_pixel = 16 * shape[2] + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
     per_pixel += (105 if params.get("joint") else 0) + (30 if params.get("steered") else 0)
-    per_exemplar = 4 * (k * 4 / 3 + 6) + (16 * k if params.get("joint") else 0)
-    return per_pixel * width * height + per_exemplar * shape[0] * shape[1]
+    per_exemplar = 8 * (k * 4 / 3 + 6) + 12 * shape[2] + (16 * k if params.get("joint") else 0)
+    return per_pixel * width * height + per_exemplar * shape[0] * shape[1] + 64 * BINS
 
 
 METHOD = register(Method(

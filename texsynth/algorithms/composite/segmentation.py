@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from ... import validation
 from ...blocks.color import srgb_to_linear
 
 __all__ = ["lab", "features", "partition", "segment", "labels_from_image", "label_colours",
@@ -133,7 +134,7 @@ def partition(w: np.ndarray) -> np.ndarray:
     return rank[group].astype(np.int32)
 
 
-def segment(image, samples: int = SAMPLES, contrast: float = CONTRAST, texture: bool = False,
+def segment(image, *, samples: int = SAMPLES, contrast: float = CONTRAST, texture: bool = False,
             min_fraction: float = MIN_FRACTION, seed: int | np.random.Generator = 0,
             ) -> np.ndarray:
     """Labels int32 (H, W), 0..K-1 with K found by the partitioning, largest class first.
@@ -142,12 +143,8 @@ def segment(image, samples: int = SAMPLES, contrast: float = CONTRAST, texture: 
     graph. ``contrast``: the constant feature component (Lab units; larger merges more; 0:
     automatic, see the module notes). ``texture``: add the filter-bank features.
     """
-    a = np.asarray(image, np.float32)
-    a = a[:, :, None] if a.ndim == 2 else a
-    if a.ndim != 3 or min(a.shape[:2]) < 4:
-        raise ValueError(f"segmentation needs an (H, W) or (H, W, C) image, got {a.shape}")
-    if not contrast >= 0:
-        raise ValueError(f"contrast must be positive (or 0: automatic), got {contrast}")
+    a = validation.image(image, what="the image to segment", min_side=4)
+    contrast = validation.number(contrast, "contrast (Lab units; 0: automatic)", 0.0, 100.0)
     f = features(a, texture)
     for c in AUTO_CONTRASTS if contrast == 0 else (contrast,):
         labels = _segment(f, samples, c, min_fraction, np.random.default_rng(seed))

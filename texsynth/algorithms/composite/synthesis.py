@@ -147,7 +147,7 @@ def _upscale(labels: np.ndarray, height: int, width: int, classes: int) -> np.nd
     return out
 
 
-def synthesize_labels(labels: np.ndarray, width: int, height: int,
+def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
                       seed: int | np.random.Generator = 0, label_scale: int = 0,
                       max_offset: int = co.MAX_OFFSET, threshold: float = co.THRESHOLD,
                       max_cliques: int = co.MAX_CLIQUES, sweeps: int = co.SWEEPS,
@@ -164,8 +164,8 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int,
     f = label_scale or int(np.clip(round(_run_length(labels) / max_offset), 1, 8))
     f = max(1, min(f, min(labels.shape) // 32 or 1))
     small = _downscale(labels, f, classes) if f > 1 else labels
-    model = co.fit_labels(small, classes, rng, max_offset, threshold, max_cliques,
-                          progress=report.span(0.0, 0.3))
+    model = co.fit_labels(small, classes, seed=rng, max_offset=max_offset, threshold=threshold,
+                          max_cliques=max_cliques, progress=report.span(0.0, 0.3))
     shape = (-(-height // f), -(-width // f))
     marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
     out = model.channels[0].decode(marks, rng)
@@ -310,7 +310,7 @@ def _class_colours(label_image, labels: np.ndarray, classes: int) -> np.ndarray:
                      for c in range(a.shape[2])], axis=1)
 
 
-def synthesize(exemplar, width: int, height: int, labels=None, output_labels=None,
+def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=None,
                fill: str = "cooccurrence", seed: int = 0,
                progress: Callable[[float, str], object] | None = None,
                interaction_distance: int = INTERACTION_DISTANCE,
@@ -339,6 +339,8 @@ def synthesize(exemplar, width: int, height: int, labels=None, output_labels=Non
     method that does not exist.
     """
     x = validation.image(exemplar)
+    width, height = validation.size(width, height)
+    seed = validation.seed(seed)
     if fill != "cooccurrence":
         if fill == "composite":
             raise ValueError("fill must be a single-texture method, not 'composite'")
@@ -357,8 +359,10 @@ def synthesize(exemplar, width: int, height: int, labels=None, output_labels=Non
                          "single-texture method such as 'cooccurrence', or paint labels"
                          + ("" if labels is not None else " (or lower the contrast)"))
     if output_labels is None:
-        out_lab = synthesize_labels(lab, width, height, rng, label_scale, max_offset, threshold,
-                                    max_cliques, sweeps, report.span(0.02, 0.2))
+        out_lab = synthesize_labels(lab, width, height, seed=rng, label_scale=label_scale,
+                                    max_offset=max_offset, threshold=threshold,
+                                    max_cliques=max_cliques, sweeps=sweeps,
+                                    progress=report.span(0.02, 0.2))
     else:
         out_lab = _as_labels(output_labels, (height, width), "output label map",
                              _class_colours(labels, lab, classes), classes)

@@ -15,6 +15,7 @@ from .model import (
     LEVELS,
     MAX_CLIQUES,
     MAX_OFFSET,
+    SELECTION_SIZE,
     SWEEPS,
     THRESHOLD,
     Model,
@@ -28,15 +29,19 @@ __all__ = ["Model", "fit", "synthesize", "METHOD"]
 def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                  threshold=THRESHOLD, max_cliques=MAX_CLIQUES, levels=LEVELS, sweeps=SWEEPS):
     """Fit the clique model of ``exemplar`` and synthesize (height, width, C) from it."""
-    model = fit(exemplar, max_offset, threshold, max_cliques, levels, seed=rng,
-                progress=progress.span(0.0, 0.3))
-    return synthesize(model, width, height, rng, sweeps, progress.span(0.3, 1.0))
+    model = fit(exemplar, max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
+                levels=levels, seed=rng, progress=progress.span(0.0, 0.3))
+    return synthesize(model, width, height, seed=rng, sweeps=sweeps,
+                      progress=progress.span(0.3, 1.0))
 
 
 def _memory(shape, width, height, params):
-    """Padded image, per-set (pixels x 2T) gathers, a colouring and the float output."""
+    """Synthesis: padded image, per-set (pixels x 2T) gathers, a colouring and the float output.
+    Selection: every candidate type's pairs on the selection torus (3 arrays of 8 bytes)."""
     t = 2 * params["max_cliques"]
-    return width * height * (4 * 6 + 3 * 4 * shape[2]) + 16 * t * width * height / 4
+    candidates = ((2 * params["max_offset"] + 1) ** 2 - 1) // 2
+    selection = candidates * SELECTION_SIZE ** 2 * 24
+    return width * height * (4 * 6 + 3 * 4 * shape[2]) + 16 * t * width * height / 4 + selection
 
 
 METHOD = register(Method(

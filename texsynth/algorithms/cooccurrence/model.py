@@ -199,10 +199,10 @@ class Model:
         except (OSError, KeyError, EOFError, ValueError) as e:
             raise ValueError(f"{path}: not a texsynth clique model ({e})") from None
 
-    def synthesize(self, width: int, height: int, seed: int = 0, sweeps: int = SWEEPS,
+    def synthesize(self, width: int, height: int, *, seed: int = 0, sweeps: int = SWEEPS,
                    progress: Callable[[float, str], object] | None = None) -> np.ndarray:
         """See :func:`synthesize`."""
-        return synthesize(self, width, height, seed, sweeps, progress)
+        return synthesize(self, width, height, seed=seed, sweeps=sweeps, progress=progress)
 
 
 def select(candidates: list[Term], exemplar_pairs: np.ndarray, singleton: np.ndarray,
@@ -280,7 +280,7 @@ def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                         np.array(added, np.float32), categorical)
 
 
-def fit(exemplar, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
+def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
         max_cliques: int = MAX_CLIQUES, levels: int = LEVELS,
         selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
         seed: int | np.random.Generator = 0,
@@ -311,7 +311,7 @@ def fit(exemplar, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
                  {"max_offset": max_offset, "threshold": threshold, "levels": levels})
 
 
-def fit_labels(labels: np.ndarray, classes: int, seed: int | np.random.Generator = 0,
+def fit_labels(labels: np.ndarray, classes: int, *, seed: int | np.random.Generator = 0,
                max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
                max_cliques: int = MAX_CLIQUES, selection_size: int = SELECTION_SIZE,
                progress: Callable[[float, str], object] | None = None) -> Model:
@@ -342,7 +342,7 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
     return relax.image
 
 
-def synthesize(model: Model, width: int, height: int, seed: int | np.random.Generator = 0,
+def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.Generator = 0,
                sweeps: int = SWEEPS,
                progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """A periodic (height, width, C) float32 image from ``model`` alone, any size.
