@@ -1,5 +1,6 @@
 """Cycles renders of a textured height field from several orthographic views, rectified to the
-frontal grid of the plane z = 0 with the known camera geometry (paper 002 section 2.2's input).
+frontal grid of the plane z = 0 with the known camera geometry (Neubeck et al. 2004 section 2.2's
+input).
 
 Used by ``tests/blender/test_btf_align.py`` and ``benchmarks/sections/stack.py``.
 """

@@ -1,4 +1,4 @@
-"""Composite textures (paper 004, Zalesny, Van Gool et al.): segmentation and synthesis.
+"""Composite textures (Zalesny et al. 2002): segmentation and synthesis.
 
 * ``texsynth.segment``: the unsupervised segmentation of the active Image Texture node's image
   as a new image, one flat palette colour per class, to inspect or to repaint and use as the

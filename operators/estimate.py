@@ -1,4 +1,4 @@
-"""Plane orientation from a photo (shape from texture, paper 000, sec. 11.4.1): estimate,
+"""Plane orientation from a photo (shape from texture, Forsyth & Ponce, sec. 11.4.1): estimate,
 align the camera, rectify. The work is the core's ``texsynth.estimate``.
 
 * ``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's

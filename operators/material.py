@@ -1,5 +1,5 @@
 """``texsynth.synthesize_material``: the maps of a material synthesized together, the active
-one leading (paper 002, Neubeck, Zalesny and Van Gool, sections 2.3 and 3.2).
+one leading (Neubeck et al. 2004, Neubeck, Zalesny and Van Gool, sections 2.3 and 3.2).
 
 The active Image Texture node's image is the support; the images of the other *selected* Image
 Texture nodes of the material (normal, roughness, height maps of the same size) follow it,
@@ -24,8 +24,8 @@ from . import output, pixels, properties, source
 from .job import Job, JobOperator
 
 MODE_ITEMS = (
-    ("GUIDED", "Guided", "Synthesize each map guided by the active one (paper 002, sec. 3.2): "
-                         "fewer seams, slower"),
+    ("GUIDED", "Guided", "Synthesize each map guided by the active one (Neubeck et al. 2004, "
+                         "sec. 3.2): fewer seams, slower"),
     ("COLUMN", "Column", "Copy the active map's pixel positions to every map: fast and exactly "
                          "registered, may show more seams"),
 )
@@ -72,7 +72,7 @@ class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
                                  options={"SKIP_SAVE"})
     support_weight: bpy.props.FloatProperty(
         name="Support Weight", default=texsynth.stack.C_SUPPORT, min=0.0, max=1.0,
-        description="Weight c of the active map in the guided distance (paper 002: 0.25)",
+        description="Weight c of the active map in the guided distance (Neubeck et al. 2004: 0.25)",
         options={"SKIP_SAVE"})
 
     @classmethod

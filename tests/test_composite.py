@@ -1,4 +1,5 @@
-"""Composite textures (paper 004, sections 1, 3, 4): segmentation, label texture, fill, errors."""
+"""Composite textures (Zalesny et al. 2002, sections 1, 3, 4): segmentation, label texture, fill,
+errors."""
 
 import numpy as np
 import pytest

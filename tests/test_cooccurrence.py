@@ -1,4 +1,5 @@
-"""The pairwise clique model (paper 004, sec. 2): statistics, selection, synthesis, file."""
+"""The pairwise clique model (Zalesny et al. 2002, sec. 2): statistics, selection, synthesis,
+file."""
 
 import numpy as np
 import pytest

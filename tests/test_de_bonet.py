@@ -1,4 +1,4 @@
-"""De Bonet's parent-structure sampling (paper 000, section 11.3.3, Algorithm 11.5)."""
+"""De Bonet's parent-structure sampling (Forsyth & Ponce, section 11.3.3, Algorithm 11.5)."""
 
 import numpy as np
 import pytest

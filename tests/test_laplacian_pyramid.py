@@ -1,4 +1,5 @@
-"""The periodic, frequency-domain Laplacian pyramid (paper 000, section 11.2.1, Alg. 11.1-11.2)."""
+"""The periodic, frequency-domain Laplacian pyramid (Forsyth & Ponce, section 11.2.1, Alg.
+11.1-11.2)."""
 
 import numpy as np
 import pytest

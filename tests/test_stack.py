@@ -1,4 +1,5 @@
-"""Stacks of registered maps (paper 002 sec. 2.3, 3.2) and the BTF alignment plane (sec. 2.2)."""
+"""Stacks of registered maps (Neubeck et al. 2004 sec. 2.3, 3.2) and the BTF alignment plane (sec.
+2.2)."""
 
 import numpy as np
 import pytest

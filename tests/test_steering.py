@@ -1,4 +1,4 @@
-"""Steered and multidimensional histogram matching (paper 001, Van De Ville et al. 2009)."""
+"""Steered and multidimensional histogram matching (Van De Ville et al. 2009)."""
 
 import math
 

@@ -1,11 +1,11 @@
 """Heeger-Bergen built the textbook way: the reference texsynth's speed-ups are measured against.
 
-Paper 000, section 11.3.2: Algorithm 11.4 (iterate: analyse the working image, match every
+Forsyth & Ponce, section 11.3.2: Algorithm 11.4 (iterate: analyse the working image, match every
 subband's histogram to the exemplar's, rebuild, match the pixel histogram) with Algorithm 11.3
 done by sorting: both cumulative histograms are formed at every match (the source ranked with an
 argsort, the target sorted). The pyramid is pyrtools' ``SteerablePyramidFreq`` (float64, rebuilt
-every iteration, as its API is used); colour is PCA-decorrelated as in paper 003, section 28.3.
-Nothing here comes from texsynth, so a bug there cannot flatter the comparison.
+every iteration, as its API is used); colour is PCA-decorrelated as in Torralba, Isola & Freeman,
+section 28.3. Nothing here comes from texsynth, so a bug there cannot flatter the comparison.
 
 Deviations, one line each: the noise is uniform on [0, 1) from ``numpy.random.default_rng(seed)``;
 the result is clipped to the exemplar's per-channel range, as texsynth does; no periodic + smooth

@@ -1,4 +1,4 @@
-"""Issue 8's evidence: the clique model and composite textures (paper 004, sections 2-4).
+"""Issue 8's evidence: the clique model and composite textures (Zalesny et al. 2002, sections 2-4).
 
 On the "composite" textures: exemplar | automatic labels | synthesized labels | composite |
 single-texture clique model, the class-proportion error, the harness's distances, model sizes and
@@ -17,7 +17,7 @@ from texsynth.algorithms.composite.segmentation import label_colours
 from texsynth.algorithms.cooccurrence.cliques import Relaxation
 
 ORDER = 60
-TITLE = "Clique model and composite textures (paper 004)"
+TITLE = "Clique model and composite textures (Zalesny et al. 2002)"
 SEED = 0
 KEYS = ("patch_distance", "structure_distance", "subband_distance", "seam_ratio")
 
@@ -133,7 +133,7 @@ def run(ctx) -> str:
         "",
         "Columns: exemplar | automatic segmentation (section 3) | label map synthesized from "
         "the label texture | composite (section 4, interactions) | the single clique model of "
-        "the whole exemplar (paper 004 fig. 3's failure case).",
+        "the whole exemplar (Zalesny et al. 2002 fig. 3's failure case).",
         "",
         "Class-proportion error: half the L1 distance between the class shares of the exemplar's "
         "labels and the synthesized label map. Distances: composite / single (lower is closer).",

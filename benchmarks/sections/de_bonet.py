@@ -1,4 +1,4 @@
-"""De Bonet's parent-structure sampling (issue 7; paper 000, section 11.3.3, Algorithm 11.5).
+"""De Bonet's parent-structure sampling (issue 7; Forsyth & Ponce, section 11.3.3, Algorithm 11.5).
 
 Evidence: contact sheets exemplar | Heeger-Bergen | De Bonet on every texture with the harness's
 patch and structure distances, a threshold sweep with the matcher's candidate counts, the
@@ -19,7 +19,8 @@ from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
 from texsynth.progress import Progress
 
 ORDER = 45
-TITLE = "De Bonet: sampling each level conditioned on its parent structure (paper 000, Alg. 11.5)"
+TITLE = ("De Bonet: sampling each level conditioned on its parent structure "
+         "(Forsyth & Ponce, Alg. 11.5)")
 
 SEED = 0
 SWEEP = (0.0, 0.25, 0.5, 1.0, 2.0)

@@ -1,4 +1,4 @@
-"""Plane slant and tilt from texture against ground truth (issue 6; paper 000, section 11.4).
+"""Plane slant and tilt from texture against ground truth (issue 6; Forsyth & Ponce, section 11.4).
 
 Every texture is rendered on a plane with the bpy module (``benchmarks/plane_renders.py``:
 Cycles, emission shader, random offset, rotation, slant in [0, 70), tilt, roll; orthographic,

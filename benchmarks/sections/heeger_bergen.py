@@ -31,7 +31,7 @@ def run(ctx) -> str:
         f"{side} x {side} RGB exemplar (central crop) to {out_side} x {out_side}, "
         f"{PARAMS['scales']} scales x {PARAMS['orientations']} orientations x "
         f"{PARAMS['iterations']} iterations, seed {SEED}; median of {repeats} runs each. The "
-        "textbook build is paper 000's Algorithm 11.4 on pyrtools' SteerablePyramidFreq with "
+        "textbook build is Forsyth & Ponce's Algorithm 11.4 on pyrtools' SteerablePyramidFreq with "
         "sort-based matching (benchmarks/peers/textbook_hb.py). Subband distance: "
         "texsynth.metrics, lower is closer to the exemplar. Peak: tracemalloc's, MiB.",
         "",

@@ -1,11 +1,11 @@
-"""Efros-Leung and the multiscale MRF (issue 5; paper 000 sec. 11.3.4, paper 003 sec. 28.4,
-paper 002 sec. 3.1), beside the Resynthesizer engine in the same run.
+"""Efros-Leung and the multiscale MRF (issue 5; Forsyth & Ponce sec. 11.3.4, Torralba, Isola &
+Freeman sec. 28.4, Neubeck et al. 2004 sec. 3.1), beside the Resynthesizer engine in the same run.
 
 Evidence: multiscale_mrf 256 -> 512 against Resynthesizer on every texture (time, patch distance,
 copy share, seam ratio; contact sheets); efros_leung 128 -> 256 with window 11 and the
 brute-force cost of the same run extrapolated from timed pixels; the window-size effect of
-paper 003 fig. 28.11; a position map pictured and re-applied to another map; 2048^2 time and
-peak memory.
+Torralba, Isola & Freeman fig. 28.11; a position map pictured and re-applied to another map; 2048^2
+time and peak memory.
 """
 
 from __future__ import annotations
@@ -244,7 +244,8 @@ def run(ctx) -> str:
         "pixel (every window's weighted SSD computed directly), timed on 24 pixels and "
         "multiplied by the pixel count.",
         "", *el_lines, "", f"![efros_leung]({el_sheet})", "",
-        f"Window size (paper 003 fig. 28.11, paper 000 fig. 11.22) on {sweep_name}: "
+        "Window size (Torralba, Isola & Freeman fig. 28.11, Forsyth & Ponce fig. 11.22) on "
+        f"{sweep_name}: "
         + ", ".join(f"window {k}: {t:.1f} s" for k, t in zip(windows, sweep_times, strict=True))
         + ".", "", f"![window sweep]({sweep_sheet})", "",
         "### Position maps", "",

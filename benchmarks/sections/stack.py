@@ -1,4 +1,4 @@
-"""Stacks of maps synthesized consistently (issue 9; paper 002 sections 2.2, 2.3, 3.2).
+"""Stacks of maps synthesized consistently (issue 9; Neubeck et al. 2004 sections 2.2, 2.3, 3.2).
 
 Evidence: a PBR set derived from one photo (colour; height = blurred luminance; its normal map;
 roughness = a pixelwise function of luminance) synthesized three ways: ``guided`` (section 3.2),

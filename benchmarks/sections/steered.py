@@ -1,5 +1,5 @@
-"""Steered and joint histogram matching for Heeger-Bergen (issue 4; paper 001, Van De Ville,
-Guerquin-Kern and Unser 2009).
+"""Steered and joint histogram matching for Heeger-Bergen (issue 4; Van De Ville et al. 2009, Van De
+Ville, Guerquin-Kern and Unser 2009).
 
 Evidence: the paper's Fig. 4 layout (exemplar | plain | steered | steered + joint) for several
 textures, the structure distance of every texture for each variant (a measure none of the
@@ -16,7 +16,7 @@ import numpy as np
 import texsynth
 
 ORDER = 40
-TITLE = "Heeger-Bergen with steered and joint histogram matching (paper 001)"
+TITLE = "Heeger-Bergen with steered and joint histogram matching (Van De Ville et al. 2009)"
 
 VARIANTS = {
     "plain": {},
@@ -45,9 +45,9 @@ def _structure(ctx, exemplar, output) -> float:
 def run(ctx) -> str:
     side = 128 if ctx.quick else 256
     lines = [
-        "Paper 001 steers each coefficient vector of a pyramid level to its orientation of "
-        "maximal response before matching histograms (`steered=True`), and matches the K "
-        "orientations of a level jointly by conditional 1-D matchings (`joint=True`, `bins` "
+        "Van De Ville et al. 2009 steer each coefficient vector of a pyramid level to its "
+        "orientation of maximal response before matching histograms (`steered=True`), and match "
+        "the K orientations of a level jointly by conditional 1-D matchings (`joint=True`, `bins` "
         "equal-count bins per orientation). All variants below use the method's defaults "
         f"(4 scales, K = 4, 15 iterations, bins 50), output {side} x {side}, seed {SEED}: the "
         "same noise initialisation, as in the paper.",

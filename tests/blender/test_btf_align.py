@@ -1,4 +1,5 @@
-"""texsynth.stack.btf.align on Cycles renders of a displaced plane (paper 002 section 2.2).
+"""texsynth.stack.btf.align on Cycles renders of a displaced plane (Neubeck et al. 2004 section
+2.2).
 
 A textured height field (mean height known) is rendered with orthographic cameras from several
 directions, each view rectified to the frontal grid for the plane z = 0 with the known camera

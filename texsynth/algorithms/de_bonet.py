@@ -1,6 +1,6 @@
 """De Bonet's multiresolution sampling of a pyramid conditioned on its parent structure.
 
-Paper 000, section 11.3.3, Algorithm 11.5 and exercise 1 (after De Bonet, SIGGRAPH 1997).
+Forsyth & Ponce, section 11.3.3, Algorithm 11.5 and exercise 1 (after De Bonet, SIGGRAPH 1997).
 
     Make a pyramid pe of the exemplar and an empty pyramid pw of the output size.
     Copy pe's coarsest level into pw (tiled from a random offset when pw is larger).

@@ -1,7 +1,7 @@
 """Efros-Leung non-parametric sampling, grown on a torus so the result tiles.
 
-Paper 000, section 11.3.4, Algorithm 11.6; paper 003, section 28.4 (window size effects);
-Efros & Leung, "Texture synthesis by non-parametric sampling", ICCV 1999.
+Forsyth & Ponce, section 11.3.4, Algorithm 11.6; Torralba, Isola & Freeman, section 28.4 (window
+size effects); Efros & Leung, "Texture synthesis by non-parametric sampling", ICCV 1999.
 
     Choose a small square of pixels at random from the exemplar; insert it into the output.
     Until every output pixel has a value:

@@ -1,9 +1,10 @@
 """Heeger-Bergen pyramid-based texture synthesis.
 
-Paper 000, section 11.3.2, Algorithm 11.4 (with Algorithm 11.3 for histogram matching); paper 003,
-section 28.3 (PCA colour, about 15 iterations); paper 001, section 2.1 (steerable pyramid).
-With ``steered`` and/or ``joint``: paper 001, sections 2.2-2.4 (Van De Ville, Guerquin-Kern and
-Unser 2009), the oriented bands of each level matched as one K-vector per position.
+Forsyth & Ponce, section 11.3.2, Algorithm 11.4 (with Algorithm 11.3 for histogram matching);
+Torralba, Isola & Freeman, section 28.3 (PCA colour, about 15 iterations); Van De Ville et al. 2009,
+section 2.1 (steerable pyramid). With ``steered`` and/or ``joint``: Van De Ville, Guerquin-Kern
+and Unser 2009, sections 2.2-2.4, the oriented bands of each level matched as one K-vector per
+position.
 
     Make a working image from noise; match its histogram to the exemplar's.
     Until convergence (``iterations`` times):
@@ -11,7 +12,8 @@ Unser 2009), the oriented bands of each level matched as one K-vector per positi
         match every subband of pw (residuals included) to the exemplar's subband;
         synthesize the working image from pw; match its pixel histogram.
 
-Paper 001's algorithm (section 2.4) replaces "match every oriented subband" per level j by:
+Van De Ville et al. 2009's algorithm (section 2.4) replaces "match every oriented subband" per level
+j by:
 
     theta = theta_max of the output's coefficient vectors w[k] (eq. 4), theta_ref the exemplar's;
     theta_new = theta matched (1-D) to the histogram of theta_ref;
@@ -89,7 +91,8 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 
 
 class _OrientedMatch:
-    """Paper 001's per-level matching of the K oriented bands (section 2.4), exemplar side cached.
+    """Van De Ville et al. 2009's per-level matching of the K oriented bands (section 2.4),
+    exemplar side cached.
 
     Residuals (high-pass, low-pass) keep the 1-D matching.
     """

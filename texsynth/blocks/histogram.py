@@ -1,4 +1,5 @@
-"""1-D histogram matching by cumulative histograms (paper 000, section 11.3.2, Algorithm 11.3).
+"""1-D histogram matching by cumulative histograms (Forsyth & Ponce, section 11.3.2, Algorithm
+11.3).
 
 ``v_new = ic_1(c_2(v))``: a value of the image being adjusted is sent through its own cumulative
 histogram c_2 and then through the inverse cumulative histogram ic_1 of the target. Arrays of
@@ -84,8 +85,8 @@ def match(source: np.ndarray, target: TargetHistogram, exact: bool = False,
     return out.reshape(source.shape)
 
 
-# --- Multidimensional histogram matching (paper 001, section 2.3) --------------------------------
-#
+# --- Multidimensional histogram matching (Van De Ville et al. 2009, section 2.3)
+# --------------------------------
 # The joint cdf factors into conditional cdfs, so K-dimensional matching is K sequential 1-D
 # matchings: dimension n of a source vector is ranked among the source vectors that share its
 # bins along dimensions 0..n-1 (F~^S_n(W_S,n; W_S,1..n-1)) and replaced by the value of that rank
@@ -223,8 +224,8 @@ def match_joint(source: np.ndarray, target: JointTarget,
                 work: JointWork | None = None) -> np.ndarray:
     """``source`` (K, ...) remapped so that its K-dimensional histogram is ``target``'s.
 
-    K sequential conditional 1-D matchings (paper 001, section 2.3), exact ranks within cells;
-    dimension 0 alone is ``match(source[0], TargetHistogram(...), exact=True)``.
+    K sequential conditional 1-D matchings (Van De Ville et al. 2009, section 2.3), exact ranks
+    within cells; dimension 0 alone is ``match(source[0], TargetHistogram(...), exact=True)``.
     """
     source = np.asarray(source, dtype=np.float32)
     if source.shape[0] != target.dimensions:

@@ -1,15 +1,15 @@
 """Steerable pyramid built in the frequency domain, periodic by construction.
 
-Simoncelli and Freeman's steerable pyramid as used by Heeger and Bergen (paper 000, sections
-11.2.3 and 11.3.2; paper 001, section 2.1, eq. 1): a high-pass residual, ``scales`` levels of
-``K = orientations`` oriented band-pass subbands, and a low-pass residual. Every filter is a
-polar-separable mask on the discrete Fourier grid, so the transform is circular (the output of a
+Simoncelli and Freeman's steerable pyramid as used by Heeger and Bergen (Forsyth & Ponce, sections
+11.2.3 and 11.3.2; Van De Ville et al. 2009, section 2.1, eq. 1): a high-pass residual, ``scales``
+levels of ``K = orientations`` oriented band-pass subbands, and a low-pass residual. Every filter is
+a polar-separable mask on the discrete Fourier grid, so the transform is circular (the output of a
 synthesis tiles) and works for any image size, not only powers of two.
 
 The band-pass filters of level j are B_m(w) = (-i)^(K-1) alpha_K cos^(K-1)(theta - theta_m) *
-H_j(|w|), theta_m = m pi / K (eq. 1 of paper 001), and the radial masks are square roots of raised
-cosines on log2 |w| so that ``H_j^2 + L_j^2 = 1`` and the pyramid is a tight frame: synthesis is the
-adjoint of analysis and reconstructs exactly (to float32 rounding).
+H_j(|w|), theta_m = m pi / K (eq. 1 of Van De Ville et al. 2009), and the radial masks are square
+roots of raised cosines on log2 |w| so that ``H_j^2 + L_j^2 = 1`` and the pyramid is a tight frame:
+synthesis is the adjoint of analysis and reconstructs exactly (to float32 rounding).
 
 Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
 - real FFTs (``rfft2``) and float32 / complex64 throughout;
@@ -186,7 +186,7 @@ class SteerablePyramid:
 
 
 class LaplacianPyramid:
-    """Burt and Adelson's Laplacian pyramid on the discrete Fourier grid (paper 000, 11.2.1).
+    """Burt and Adelson's Laplacian pyramid on the discrete Fourier grid (Forsyth & Ponce, 11.2.1).
 
     ``G_0`` is the image; ``G_{j+1}`` is ``G_j`` low-passed by the steerable pyramid's radial
     mask ``L_j`` (zero beyond half of level j's band) and decimated by cropping its spectrum, and

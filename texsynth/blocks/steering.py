@@ -1,4 +1,5 @@
-"""Steering the oriented subbands of a steerable pyramid (paper 001, sections 2.1-2.2).
+"""Steering the oriented subbands of a steerable pyramid (Van De Ville et al. 2009, sections
+2.1-2.2).
 
 The K band filters of a level are B_k = (-i)^(K-1) alpha_K cos^(K-1)(theta - theta_k) * radial,
 theta = atan2(fy, fx) and theta_k = pi k / K (k = 0..K-1; the paper counts m = 1..K), exactly as

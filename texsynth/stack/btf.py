@@ -1,6 +1,6 @@
 """BTF alignment plane: the height that makes a stack of views smoothest.
 
-Paper 002 (Neubeck, Zalesny, Van Gool), section 2.2. The views of a rough planar sample,
+Neubeck et al. 2004, section 2.2. The views of a rough planar sample,
 rectified to the frontal view for a reference plane (height 0), show a surface point at height h
 displaced by h (d_x, d_y) / d_z under parallel projection (d the unit viewing direction): the same
 pixel drifts between views. Re-rectifying for a plane at height h0 removes the drift of the

@@ -1,8 +1,8 @@
 """Unsupervised segmentation of a composite texture into subtextures, and label images.
 
-Paper 004, section 3: "Segmentation based on Lab color data ... smoothed with a Gaussian filter of
-size 5x5 ... an additional vector ... of simple texture features, obtained as the outputs of a
-bank of simple filters. A cosine metric between such feature vectors is used as similarity ...
+Zalesny et al. 2002, section 3: "Segmentation based on Lab color data ... smoothed with a Gaussian
+filter of size 5x5 ... an additional vector ... of simple texture features, obtained as the outputs
+of a bank of simple filters. A cosine metric between such feature vectors is used as similarity ...
 A sample pixel set is drawn from the image and a complete graph is constructed ... partitioned
 into completely connected, disjoint subsets of vertices so as to maximize the total sum of the
 similarities over all remaining edges" (clique partitioning, which needs no number of classes).

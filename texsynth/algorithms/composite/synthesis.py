@@ -1,6 +1,6 @@
 """Composite textures: a label texture filled with subtextures that interact near boundaries.
 
-Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), sections 1, 3 and 4::
+Zalesny et al. 2002, sections 1, 3 and 4::
 
     result = texsynth.composite.synthesize(exemplar, 512, 512)             # all automatic
     result = texsynth.composite.synthesize(exemplar, 512, 512, labels=mask,

@@ -1,6 +1,6 @@
 """Pairwise clique statistics and their synthesis by stochastic relaxation.
 
-Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), section 2 and section 4.
+Zalesny et al. 2002, section 2 and section 4.
 
 A clique is a pair of pixels (p, p + d); its type is the offset d = (dy, dx). The statistic of a
 clique type is the histogram of intensity differences u(p + d) - u(p) over every clique of that
@@ -29,8 +29,8 @@ exactly and the set's true change of E is known before it is applied; when many 
 mass into the same bins and overshoot (E would rise), only the better half of them is kept,
 and so on. E therefore never increases; it is bounded below, so it converges (measured in
 docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60).
-The grid is a torus, so every synthesized image tiles. (Paper 004 defers its synthesis procedure
-to its reference [13]; this sampler is ours.)
+The grid is a torus, so every synthesized image tiles. (Zalesny et al. 2002 defers its synthesis
+procedure to its reference [13]; this sampler is ours.)
 """
 
 from __future__ import annotations

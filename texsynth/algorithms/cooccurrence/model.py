@@ -1,6 +1,6 @@
 """The pairwise clique model: clique-type selection, synthesis from a model, a small model file.
 
-Paper 004 (Zalesny & Van Gool, "Composite texture descriptions"), section 2, steps 1-7, after
+Zalesny et al. 2002, section 2, steps 1-7, after
 their reference [13]. A model is a neighbourhood system (the selected clique types) plus, for
 each selected type, the histogram of intensity differences of its pixel pairs, plus the
 singleton (intensity) histogram. Once fitted, the exemplar is no longer needed::
