@@ -1,0 +1,97 @@
+"""The shape of the core that docs/ARCHITECTURE.md promises: read from the source, no imports run.
+
+- no module of texsynth/ imports another of ours inside a function body (each module states its
+  dependencies at the top, and importing one never hides a cycle);
+- the imports among texsynth/'s modules form no cycle (a package's ``__init__`` re-exporting its
+  own submodules is not a cycle: those submodules never import it back);
+- the core never imports bpy;
+- every method is registered from its own home under texsynth/algorithms/.
+"""
+
+import ast
+from pathlib import Path
+
+import texsynth
+
+CORE = Path(texsynth.__file__).parent
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(CORE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _resolve(module: str, is_package: bool, node: ast.ImportFrom) -> str:
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    if node.level:
+        base = base[: len(base) - node.level + 1]
+        return ".".join(base + ([node.module] if node.module else []))
+    return node.module or ""
+
+
+def _imports():
+    """(module, imported module, inside a function?, line) for every import of the core."""
+    modules = {_module_name(p): p for p in CORE.rglob("*.py")}
+    found = []
+    for name, path in modules.items():
+        tree = ast.parse(path.read_text())
+        in_function = set()
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                in_function.update(id(n) for n in ast.walk(node) if n is not node)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                target = _resolve(name, path.name == "__init__.py", node)
+                targets = [f"{target}.{a.name}" if f"{target}.{a.name}" in modules else target
+                           for a in node.names]
+            elif isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                continue
+            for t in targets:
+                found.append((name, t, id(node) in in_function, node.lineno))
+    return modules, found
+
+
+def test_no_project_imports_inside_functions():
+    _, found = _imports()
+    inside = [f"{m}:{line} imports {t}" for m, t, in_function, line in found
+              if in_function and t.split(".")[0] == "texsynth"]
+    assert not inside, "\n".join(inside)
+
+
+def test_the_core_never_imports_blender():
+    _, found = _imports()
+    assert not [m for m, t, _, _ in found if t.split(".")[0] in ("bpy", "mathutils")]
+
+
+def test_no_import_cycles():
+    modules, found = _imports()
+    graph = {m: set() for m in modules}
+    for m, t, _, _ in found:
+        if t in modules and t != m and not (m.startswith(t + ".") and modules[t].name ==
+                                               "__init__.py"):
+            graph[m].add(t)
+    # a package's own __init__ importing its submodules is fine; drop those edges to the parent
+    state, stack = {}, []
+
+    def visit(node):
+        state[node] = "open"
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycle = stack[stack.index(nxt):] + [nxt]
+                raise AssertionError("import cycle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt)
+        stack.pop()
+        state[node] = "done"
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node)
+
+
+def test_every_method_lives_under_algorithms():
+    for method in texsynth.methods():
+        assert method.function.__module__.startswith("texsynth.algorithms."), method.name
