@@ -22,11 +22,11 @@ MAX_SIDE = 16384
 
 
 def image(array, *, what: str = "exemplar", min_side: int = 8,
-          channels: tuple[int, ...] = (1, 3, 4), finite: bool = True) -> np.ndarray:
+          channels: tuple[int, ...] | None = (1, 3, 4), finite: bool = True) -> np.ndarray:
     """``array`` as C-contiguous float32 (H, W, C), or ``ValueError`` saying what is wrong.
 
     Floats are taken as they are; unsigned integer images are scaled to [0, 1] by their type's
-    maximum (uint8 / 255, uint16 / 65535). ``finite=False`` lets NaN and infinities through
+    maximum (uint8 / 255, uint16 / 65535). ``channels=None`` takes any count; ``finite=False`` lets NaN and infinities through
     (files may hold them; synthesis may not).
     """
     a = np.asarray(array)
@@ -38,7 +38,7 @@ def image(array, *, what: str = "exemplar", min_side: int = 8,
         a = a[:, :, None]
     if a.ndim != 3:
         raise ValueError(f"{what} must be (H, W) or (H, W, C), got shape {a.shape}")
-    if a.shape[2] not in channels:
+    if channels is not None and a.shape[2] not in channels:
         listed = ", ".join(map(str, channels[:-1])) + f" or {channels[-1]}"
         raise ValueError(f"{what} must have {listed} channels, got {a.shape[2]}")
     h, w = a.shape[:2]

@@ -23,6 +23,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import shift as nd_shift
 
+from .. import validation
+
 __all__ = ["align", "realign", "view_shifts"]
 
 
@@ -88,11 +90,11 @@ def align(stack, view_dirs, heights, lights=None, neighbours: int = 4):
 
 
 def _check(stack, view_dirs) -> np.ndarray:
-    a = np.asarray(stack, np.float32)
-    if a.ndim == 3:
-        a = a[..., None]
-    if a.ndim != 4:
+    a = np.asarray(stack)
+    if a.ndim not in (3, 4) or len(a) == 0:
         raise ValueError(f"stack must be (V, H, W) or (V, H, W, C), got shape {a.shape}")
+    a = np.stack([validation.image(view, what=f"view {v}", min_side=1, channels=None)
+                  for v, view in enumerate(a)])
     d = np.asarray(view_dirs)
     if d.shape != (len(a), 3):
         raise ValueError(f"view_dirs must be ({len(a)}, 3), one direction per view; "
