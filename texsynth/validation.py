@@ -26,8 +26,8 @@ def image(array, *, what: str = "exemplar", min_side: int = 8,
     """``array`` as C-contiguous float32 (H, W, C), or ``ValueError`` saying what is wrong.
 
     Floats are taken as they are; unsigned integer images are scaled to [0, 1] by their type's
-    maximum (uint8 / 255, uint16 / 65535). ``channels=None`` takes any count; ``finite=False`` lets NaN and infinities through
-    (files may hold them; synthesis may not).
+    maximum (uint8 / 255, uint16 / 65535). ``channels=None`` takes any count; ``finite=False`` lets
+    NaN and infinities through (files may hold them; synthesis may not).
     """
     a = np.asarray(array)
     if a.dtype.kind == "u":
