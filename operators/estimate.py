@@ -1,4 +1,4 @@
-"""Plane orientation from a photo: estimate, align the camera, rectify (``texsynth.estimate``).
+"""Plane orientation from a photo: estimate, align the camera, rectify (``texsynth.plane``).
 
 ``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's
 image, else the panel's photo, else the active Image Texture node's image) and stores slant, tilt
@@ -16,14 +16,13 @@ import math
 import bpy
 from mathutils import Matrix
 
-from ..texsynth import estimate
+from ..texsynth import plane as estimate
 from . import output, pixels, properties, source
 
 METHOD_ITEMS = (
     ("AUTO", "Auto", "Isotropy and homogeneity under perspective: the receding direction and, "
                      "when the focal length is unknown, an estimate of it"),
     ("ISOTROPY", "Isotropy", "Orthographic isotropy search: tilt known only up to 180 degrees"),
-    ("MOMENTS", "Moments", "Textbook spectral second-moment estimate (fast, less accurate)"),
 )
 DEFAULT_DISTANCE = 5.0
 

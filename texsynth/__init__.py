@@ -17,7 +17,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import composite, cooccurrence, segmentation
-from .estimate import PlaneEstimate, camera_pose, estimate_plane, rectify
+from .plane import PlaneEstimate, camera_pose, estimate_plane, rectify
 from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get, methods

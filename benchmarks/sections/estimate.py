@@ -1,4 +1,5 @@
-"""Plane slant and tilt from texture against ground truth (issue 6; paper 000, section 11.4).
+"""Plane slant and tilt from texture against ground truth (issue 6; Forsyth & Ponce, Computer
+Vision: A Modern Approach, sec. 11.4.1).
 
 Every texture is rendered on a plane with the bpy module (``benchmarks/plane_renders.py``:
 Cycles, emission shader, random offset, rotation, slant in [0, 70), tilt, roll; orthographic,
@@ -20,7 +21,8 @@ from collections import defaultdict
 import numpy as np
 
 from benchmarks import plane_renders
-from texsynth import estimate
+from benchmarks.peers import moments
+from texsynth import plane
 
 ORDER = 70
 TITLE = "Plane orientation from texture (issue 6)"
@@ -37,9 +39,9 @@ def _angle(a, b) -> float:
 
 
 def _score(view, result) -> dict:
-    truth = estimate.normal_from_angles(view.slant, view.tilt)
+    truth = plane.normal_from_angles(view.slant, view.tilt)
     normal = np.asarray(result.normal)
-    flipped = estimate.normal_from_angles(result.slant, result.tilt + 180.0)
+    flipped = plane.normal_from_angles(result.slant, result.tilt + 180.0)
     claims = not result.tilt_ambiguous_180
     error_180 = min(_angle(truth, normal), _angle(truth, flipped))
     error = _angle(truth, normal) if claims else error_180
@@ -80,13 +82,14 @@ def run(ctx) -> str:
     failures = defaultdict(list)
     fits = {}
     for view, photo in zip(views, photos, strict=True):
-        calls = {"baseline": {"method": "moments"}, "auto": {}}
+        calls = {"baseline": moments.estimate, "auto": plane.estimate_plane}
         if view.focal_px is not None:
-            calls["known"] = {"focal_px": view.focal_px}
-        for run, kwargs in calls.items():
+            calls["known"] = lambda image, f=view.focal_px: plane.estimate_plane(image,
+                                                                                 focal_px=f)
+        for run, call in calls.items():
             tic = time.perf_counter()
             try:
-                result = estimate.estimate_plane(photo, **kwargs)
+                result = call(photo)
             except ValueError as error:
                 failures[run].append(f"{view.texture} ({view.projection}, slant "
                                      f"{view.slant:.0f}): {error}")
@@ -197,13 +200,13 @@ def _figure(ctx, views, photos, fits) -> str:
             continue
         seen.add(view.texture)
         fit = fits[view]
-        truth = estimate.PlaneEstimate(**{**fit.__dict__, "slant": view.slant, "tilt": view.tilt,
+        truth = plane.PlaneEstimate(**{**fit.__dict__, "slant": view.slant, "tilt": view.tilt,
                                           "focal_px": view.focal_px,
                                           "tilt_ambiguous_180": False})
         row = [photo]
         for record in (fit, truth):
             try:
-                row.append(estimate.rectify(photo, record))
+                row.append(plane.rectify(photo, record))
             except ValueError:
                 row.append(None)
         rows.append(row)
