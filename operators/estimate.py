@@ -12,6 +12,7 @@ synchronously.
 """
 
 import math
+import os
 
 import bpy
 from mathutils import Matrix
@@ -25,6 +26,12 @@ METHOD_ITEMS = (
     ("ISOTROPY", "Isotropy", "Orthographic isotropy search: tilt known only up to 180 degrees"),
 )
 DEFAULT_DISTANCE = 5.0
+FOCAL_SOURCES = (
+    ("EXIF", "EXIF", "Read from the photo file's EXIF (the camera wrote it)"),
+    ("CAMERA", "Scene Camera", "The scene camera's lens and sensor"),
+    ("ESTIMATED", "Estimated", "Estimated from the photo's perspective"),
+    ("NONE", "None (Orthographic)", "No perspective: the estimate is orthographic"),
+)
 
 
 class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
@@ -39,7 +46,7 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
     use_camera_focal: bpy.props.BoolProperty(
         name="Taken with Scene Camera",
         description="The photo was taken with the scene camera's lens and sensor: use its focal "
-                    "length instead of estimating it")
+                    "length instead of the photo file's EXIF or an estimate")
     add_background: bpy.props.BoolProperty(
         name="Photo as Background", default=True,
         description="Show the photo as the camera's background image when aligning")
@@ -58,6 +65,9 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
         name="Focal Length", subtype="PIXEL", min=0.0,
         description="Focal length in pixels of the photo; 0: orthographic (unknown)")
     focal_estimated: bpy.props.BoolProperty(name="Focal Estimated", options={"HIDDEN"})
+    focal_source: bpy.props.EnumProperty(
+        name="Focal Length From", items=FOCAL_SOURCES, default="NONE",
+        description="Where the estimate's focal length came from")
     tilt_ambiguous: bpy.props.BoolProperty(
         name="Tilt Ambiguous",
         description="The receding direction is not determined: tilt + 180 degrees fits as well")
@@ -107,6 +117,14 @@ def camera_focal_px(scene, width: int, height: int) -> float:
     return estimate.focal_px_from_lens(data.lens, sensor, width, height, fit)
 
 
+def file_focal_px(image) -> float | None:
+    """The focal length in pixels from the EXIF of the image's file, if it has one on disk."""
+    if image.source != "FILE" or image.packed_file is not None or not image.filepath:
+        return None
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    return estimate.focal_px_from_file(path) if os.path.isfile(path) else None
+
+
 def stored_estimate(settings) -> estimate.PlaneEstimate:
     """The scene's estimate as the core's record (uncertainties are not needed downstream)."""
     if not settings.has_estimate:
@@ -150,10 +168,16 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
             image = find_photo(context, self.image)
             photo, _ = pixels.read_exemplar(image)
             height, width = photo.shape[:2]
-            focal = camera_focal_px(context.scene, width, height) \
-                if settings.use_camera_focal and settings.method == "AUTO" else None
+            focal, source = None, "NONE"
+            if settings.method == "AUTO":
+                if settings.use_camera_focal:
+                    focal, source = camera_focal_px(context.scene, width, height), "CAMERA"
+                elif (focal := file_focal_px(image)) is not None:
+                    source = "EXIF"
             result = estimate.estimate_plane(photo, focal_px=focal,
                                              method=settings.method.lower())
+            if result.focal_estimated:
+                source = "ESTIMATED"
         except ValueError as error:
             return _fail(self, error)
         settings.has_estimate = True
@@ -163,10 +187,13 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         settings.tilt = math.radians(result.tilt)
         settings.focal_px = result.focal_px or 0.0
         settings.focal_estimated = result.focal_estimated
+        settings.focal_source = source
         settings.tilt_ambiguous = result.tilt_ambiguous_180
         settings.confidence = result.confidence
         settings.uncertainty = math.radians(min(result.normal_uncertainty, 90.0))
-        lens = f", focal {result.focal_px:.0f} px" if result.focal_px else ", orthographic"
+        where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
+        lens = f", focal {result.focal_px:.0f} px{where.get(source, '')}" if result.focal_px \
+            else ", orthographic"
         either = " (or +180)" if result.tilt_ambiguous_180 else ""
         self.report({"INFO"}, f"'{image.name}': slant {result.slant:.1f}°, tilt "
                               f"{result.tilt:.1f}°{either}{lens}, confidence "
@@ -289,6 +316,8 @@ def draw_plane(layout, context, in_image_editor: bool) -> None:
     if settings.tilt_ambiguous:
         box.label(text="Tilt may be off by 180°", icon="INFO")
     box.prop(settings, "focal_px")
+    box.label(text="Focal length from: " + dict((k, n) for k, n, _ in FOCAL_SOURCES)[
+        settings.focal_source], icon="CAMERA_DATA")
     box.prop(settings, "confidence")
     layout.prop(settings, "add_background")
     layout.operator("texsynth.align_camera", icon="CAMERA_DATA")

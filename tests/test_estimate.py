@@ -11,7 +11,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _planes import SIZE, noise_texture, normal_error, photograph, spectral_slant
+from _planes import (
+    SIZE,
+    brick_texture,
+    noise_texture,
+    normal_error,
+    photograph,
+    spectral_slant,
+)
 
 import texsynth
 from texsynth.plane import (
@@ -63,6 +70,35 @@ def test_unknown_focal_is_estimated(texture):
     assert abs(result.focal_px / 260.0 - 1.0) < 0.15
     assert normal_error((55.0, 300.0), (result.slant, result.tilt)) < 5.0
     assert result.focal_uncertainty > 0
+
+
+@pytest.fixture(scope="module")
+def bricks():
+    return brick_texture()
+
+
+@pytest.mark.parametrize("slant, tilt, focal", [(50.0, 120.0, 300.0), (60.0, 300.0, 250.0)])
+def test_lines_lead_on_bricks(bricks, slant, tilt, focal):
+    """Mortar joints: two orthogonal families give the plane and the focal length."""
+    photo = photograph(bricks, slant, tilt, focal)
+    for given in (None, focal):
+        result = estimate_plane(photo, focal_px=given)
+        assert result.line_families == 2 and not result.tilt_ambiguous_180
+        assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
+        assert abs(result.focal_px / focal - 1.0) < 0.1
+        assert result.focal_estimated == (given is None)
+
+
+def test_a_stochastic_texture_has_no_line_families(texture):
+    assert estimate_plane(photograph(texture, 40.0, 200.0, focal=300.0)).line_families == 0
+
+
+def test_white_noise_gets_no_confidence():
+    """No plane cue at all: any slant explains white noise, so none is claimed with confidence."""
+    rng = np.random.default_rng(3)
+    for _ in range(2):
+        result = estimate_plane(rng.random((SIZE, SIZE)))
+        assert result.confidence < 0.25 and result.normal_uncertainty > 20.0
 
 
 def test_result_is_consistent_and_frozen(texture):

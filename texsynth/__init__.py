@@ -17,7 +17,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import composite, cooccurrence, segmentation
-from .plane import PlaneEstimate, camera_pose, estimate_plane, rectify
+from .plane import PlaneEstimate, camera_pose, estimate_plane, focal_px_from_file, rectify
 from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get, methods
@@ -43,6 +43,7 @@ __all__ = [
     "estimate_plane",
     "rectify",
     "camera_pose",
+    "focal_px_from_file",
     "PlaneEstimate",
 ]
 

@@ -24,7 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize as opt
 
+from .combine import combine
 from .geometry import angles_from_gradient, gradient, normal_from_angles
+from .lines import LineCost, families, segments
+from .search import hessian, minimize
 from .spectra import Criterion, downsample, luminance, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
@@ -45,7 +48,8 @@ class PlaneEstimate:
     ``normal_uncertainty`` are one-sigma estimates in degrees; ``confidence`` in [0, 1] folds them
     with the texture's departure from the model (``anisotropy``, the RMS log-energy spread across
     orientations after rectification: near 0.1 for isotropic textures, 0.5 and more for bricks or
-    weaves, where the isotropy assumption fails).
+    weaves, where the isotropy assumption fails). ``line_families``: how many families of
+    straight lines (0, 1 or 2: mortar joints, tile edges, seams) entered the estimate.
     """
 
     slant: float
@@ -62,6 +66,7 @@ class PlaneEstimate:
     anisotropy: float
     method: str
     image_size: tuple[int, int]
+    line_families: int = 0
 
     @property
     def orthographic(self) -> bool:
@@ -77,43 +82,12 @@ _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foresho
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 
 
-def _minimize(fun, starts, step):
-    """Nelder-Mead from each start; the best result."""
-    best = None
-    for x0 in starts:
-        x0 = np.asarray(x0, dtype=np.float64)
-        simplex = np.vstack([x0, x0 + np.diag(np.broadcast_to(step, x0.shape))])
-        res = opt.minimize(fun, x0, method="Nelder-Mead",
-                           options={"initial_simplex": simplex, "xatol": 2e-3, "fatol": 1e-4,
-                                    "maxfev": 300})
-        if best is None or res.fun < best.fun:
-            best = res
-    return best
-
-
 def _grid_starts(fun, tilts_over: float, count: int = 3):
     """The ``count`` best hypotheses p of a coarse slant x tilt grid."""
     grid = [np.zeros(2)] + [gradient(s, t) for s in (15, 30, 45, 60, 70)
                             for t in np.arange(0.0, tilts_over, 30.0)]
     scores = [fun(p) for p in grid]
     return [grid[i] for i in np.argsort(scores)[:count]]
-
-
-def _hessian(fun, x: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """Central finite-difference Hessian of ``fun`` at ``x``."""
-    n = len(x)
-    f0 = fun(x)
-    hess = np.zeros((n, n))
-    for i in range(n):
-        ei = np.zeros(n)
-        ei[i] = step[i]
-        hess[i, i] = (fun(x + ei) - 2 * f0 + fun(x - ei)) / step[i] ** 2
-        for j in range(i):
-            ej = np.zeros(n)
-            ej[j] = step[j]
-            hess[i, j] = hess[j, i] = (fun(x + ei + ej) - fun(x + ei - ej) - fun(x - ei + ej)
-                                       + fun(x - ei - ej)) / (4 * step[i] * step[j])
-    return hess
 
 
 def _noise(raw: float, dof: int) -> float:
@@ -126,7 +100,7 @@ def _covariance(fun, x, step, raw: float, dof: int, model: float = 0.0) -> np.nd
     cov = 2 (s^2 / dof_eff + e) H^-1 with s^2 the raw residual variance and e the criterion's
     remaining value where it rests on an assumption the texture can break (its own anisotropy:
     a shift of x that costs that much is as plausible as the fit)."""
-    hess = _hessian(fun, np.asarray(x, dtype=np.float64), np.asarray(step, dtype=np.float64))
+    hess = hessian(fun, np.asarray(x, dtype=np.float64), np.asarray(step, dtype=np.float64))
     values, vectors = np.linalg.eigh(hess)
     values = np.maximum(values, 1e-12)  # flat directions: unbounded uncertainty
     return (vectors / values) @ vectors.T * 2.0 * (raw * _NOISE_K / max(dof, 1) + model)
@@ -161,7 +135,7 @@ def _fit_isotropy(crit: Criterion) -> _Fit:
     def cost(p):
         return crit.isotropy(p, zero)[0]
 
-    fit = _minimize(cost, _grid_starts(cost, 180.0), 0.1)
+    fit = minimize(cost, _grid_starts(cost, 180.0), 0.1)
     _, raw, dof = crit.isotropy(fit.x, zero)
     st = angles_from_gradient(fit.x)
     cov = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
@@ -177,7 +151,7 @@ def _settle_direction(cost, criterion, fit, step):
     def other_way(q):
         return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
 
-    flipped = _minimize(other_way, [-fit.x], step)
+    flipped = minimize(other_way, [-fit.x], step)
     best, worse = (fit, flipped) if fit.fun <= flipped.fun else (flipped, fit)
     _, raw, dof = criterion(best.x)
     return best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
@@ -189,7 +163,7 @@ def _fit_known_focal(crit: Criterion, f: float) -> _Fit:
     def cost(p):
         return crit.homogeneity(p, p / f)[0]
 
-    fit = _minimize(cost, _grid_starts(cost, 360.0), 0.05)
+    fit = minimize(cost, _grid_starts(cost, 360.0), 0.05)
     p, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f), fit,
                                               0.05)
     st = angles_from_gradient(p)
@@ -203,7 +177,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
     def cost(q):
         return crit.homogeneity(q, q / f_ref)[0]
 
-    fit = _minimize(cost, _grid_starts(cost, 360.0), 0.05)
+    fit = minimize(cost, _grid_starts(cost, 360.0), 0.05)
     if math.hypot(*fit.x) < 1e-3:
         return _fit_isotropy(crit)
     q, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f_ref),
@@ -224,7 +198,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
     slant = float(best.x)
     p = math.tan(math.radians(slant)) * direction
     _, iraw, idof = iso.isotropy(p, v)
-    curvature = _hessian(lambda x: np.array(slant_cost(x[0])), np.array([slant]),
+    curvature = hessian(lambda x: np.array(slant_cost(x[0])), np.array([slant]),
                          np.array([1.5]))[0, 0]
     var_slant = 2.0 * (iraw * _NOISE_K / max(idof, 1) + max(best.fun, 0.0)) / max(curvature,
                                                                                  1e-12)
@@ -253,7 +227,9 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     method : {"auto", "isotropy"}
         "auto": homogeneity under perspective (receding direction, and slant when the focal
         length is given) with isotropy for the slant when it is not (then the focal length is
-        estimated); isotropy alone when the photo shows no perspective.
+        estimated); isotropy alone when the photo shows no perspective. Straight-line families
+        (:mod:`~texsynth.plane.lines`) are combined with it (:mod:`~texsynth.plane.combine`):
+        on bricks, tiles and weaves they lead, on stochastic textures there are none.
         "isotropy": the orthographic isotropy search of 11.4.1 alone (tilt mod 180).
 
     Returns
@@ -270,13 +246,23 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     lum = luminance(image)
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)
-    crit = Criterion(spectra(small, texture_mask(small), _W_MAX, _WINDOW))
+    mask = texture_mask(small)
+    crit = Criterion(spectra(small, mask, _W_MAX, _WINDOW))
+    found = []
     if method == "isotropy":
         fit = _fit_isotropy(crit)
-    elif focal_px is not None:
-        fit = _fit_known_focal(crit, focal_px / k)
     else:
-        fit = _fit_unknown_focal(crit, float(max(small.shape)))
+        fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
+            _fit_unknown_focal(crit, float(max(small.shape)))
+        found = families(segments(small, mask), float(max(small.shape)))
+    if found:  # the texture fit with the floors _result would state (its honest uncertainty)
+        floor = np.diag([_SYSTEMATIC ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
+                         _SYSTEMATIC ** 2])
+        both = combine(LineCost(found), float(max(small.shape)), fit.p, fit.cov + floor,
+                       fit.focal, fit.focal_sd, fit.ambiguous,
+                       None if focal_px is None else focal_px / k)
+        fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
+                   fit.isotropy_based and not both.determined, both.focal_sd)
     slant, tilt = angles_from_gradient(fit.p)
     if fit.focal is None:  # p and -p are the same orthographic view
         tilt %= 180.0
@@ -284,11 +270,11 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     estimated = focal is not None and focal_px is None
     anisotropy = crit.isotropy(fit.p, np.zeros(2) if fit.focal is None else fit.p / fit.focal)
     return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
-                   anisotropy[1], fit.isotropy_based, method, size)
+                   anisotropy[1], fit.isotropy_based, method, size, len(found))
 
 
 def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy, isotropy_based,
-            method, size) -> PlaneEstimate:
+            method, size, line_families) -> PlaneEstimate:
     """The record, with uncertainties (one sigma, degrees) and confidence.
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
@@ -309,6 +295,7 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
         slant_uncertainty=float(s_slant), tilt_uncertainty=float(s_tilt),
         normal_uncertainty=float(s_normal),
         focal_uncertainty=None if focal_sd is None or focal is None else float(focal * focal_sd),
-        anisotropy=float(math.sqrt(max(anisotropy, 0.0))), method=method, image_size=size)
+        anisotropy=float(math.sqrt(max(anisotropy, 0.0))), method=method, image_size=size,
+        line_families=line_families)
 
 
