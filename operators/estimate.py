@@ -2,13 +2,14 @@
 
 ``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's
 image, else the panel's photo, else the active Image Texture node's image) and stores slant, tilt
-(radians), focal length and confidence in ``scene.texsynth.plane``. ``texsynth.align_camera``
-poses the scene camera (made if missing) so that the active object's local XY plane (world XY at
-the origin when nothing is active) is seen at that slant and tilt; ``texsynth.rectify`` writes
-the frontal view of the photo as a new image, ready for ``texsynth.synthesize``. Every check
-happens before anything changes: on error the file is as it was. The estimate takes a second or
-two on an image of any size (it works on a copy reduced to 384 pixels), so the operators run
-synchronously.
+(radians), focal length (the scene camera's when asked, else the photo file's EXIF, else
+estimated; ``focal_source`` says which) and confidence in ``scene.texsynth.plane``.
+``texsynth.align_camera`` poses the scene camera (made if missing) so that the active object's
+local XY plane (world XY at the origin when nothing is active) is seen at that slant and tilt;
+``texsynth.rectify`` writes the frontal view of the photo as a new image, ready for
+``texsynth.synthesize``. Every check happens before anything changes: on error the file is as it
+was. The estimate takes a second or two on an image of any size (it works on a copy reduced to
+320 pixels), so the operators run synchronously.
 """
 
 import math

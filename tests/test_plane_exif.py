@@ -1,63 +1,36 @@
 """The focal length in pixels from a photo's EXIF, as cameras and phones write it.
 
-The files are built here byte by byte (a TIFF structure, or a JPEG holding one in its APP1
-segment and a frame header giving its size), so no image library and no shared photo is needed.
+The files are built byte by byte (tests/_exif.py), so no image library and no shared photo is
+needed.
 """
 
 import math
 import struct
 
 import pytest
+from _exif import (
+    FOCAL_35MM,
+    FOCAL_LENGTH,
+    FOCAL_PLANE_UNIT,
+    FOCAL_PLANE_X,
+    IMAGE_LENGTH,
+    IMAGE_WIDTH,
+    LONG,
+    ORIENTATION,
+    PIXEL_X,
+    PIXEL_Y,
+    RATIONAL,
+    SHORT,
+)
+from _exif import (
+    jpeg as _jpeg,
+)
+from _exif import (
+    tiff as _tiff,
+)
 
 import texsynth
 from texsynth.plane import focal_px_from_file
-
-SHORT, LONG, RATIONAL = 3, 4, 5
-ORIENTATION, EXIF_IFD, IMAGE_WIDTH, IMAGE_LENGTH = 0x0112, 0x8769, 0x0100, 0x0101
-FOCAL_LENGTH, FOCAL_35MM = 0x920A, 0xA405
-PIXEL_X, PIXEL_Y = 0xA002, 0xA003
-FOCAL_PLANE_X, FOCAL_PLANE_UNIT = 0xA20E, 0xA210
-
-
-def _tiff(ifd0: dict, exif: dict, order: str = "<") -> bytes:
-    """A TIFF structure: IFD0 (with a pointer to the Exif IFD when ``exif``) and the Exif IFD.
-    Values are (type, value); rationals are (numerator, denominator)."""
-    ifd0 = dict(ifd0)
-    if exif:
-        ifd0[EXIF_IFD] = (LONG, 0)  # patched below
-    size0 = 2 + 12 * len(ifd0) + 4
-    exif_at = 8 + size0
-    data_at = exif_at + (2 + 12 * len(exif) + 4 if exif else 0)
-    data = b""
-
-    def entries(ifd):
-        nonlocal data
-        out = struct.pack(order + "H", len(ifd))
-        for tag in sorted(ifd):
-            kind, value = ifd[tag]
-            if tag == EXIF_IFD:
-                value = exif_at
-            if kind == RATIONAL:
-                field = struct.pack(order + "I", data_at + len(data))
-                data += struct.pack(order + "II", *value)
-            elif kind == SHORT:
-                field = struct.pack(order + "HH", value, 0)
-            else:
-                field = struct.pack(order + "I", value)
-            out += struct.pack(order + "HHI", tag, kind, 1) + field
-        return out + struct.pack(order + "I", 0)
-
-    header = (b"II*\x00" if order == "<" else b"MM\x00*") + struct.pack(order + "I", 8)
-    body = entries(ifd0) + (entries(exif) if exif else b"")
-    return header + body + data
-
-
-def _jpeg(width: int, height: int, ifd0: dict, exif: dict) -> bytes:
-    """SOI, APP1 Exif, a baseline frame header of ``width`` x ``height``, EOI."""
-    tiff = b"Exif\x00\x00" + _tiff(ifd0, exif, ">")
-    app1 = b"\xff\xe1" + struct.pack(">H", len(tiff) + 2) + tiff
-    sof = b"\xff\xc0" + struct.pack(">HBHHB", 11, 8, height, width, 1) + b"\x01\x11\x00"
-    return b"\xff\xd8" + app1 + sof + b"\xff\xd9"
 
 
 def test_focal_plane_resolution_gives_the_focal_length_of_the_stored_image(tmp_path):

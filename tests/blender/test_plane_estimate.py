@@ -10,6 +10,7 @@ import pytest
 from mathutils import Vector
 from scenes import fingerprint, generated_image, material_with
 
+from tests._exif import FOCAL_35MM, SHORT, with_exif
 from tests._planes import noise_texture, photograph, spectral_slant
 from texsynth.plane import angles_from_normal, focal_px_from_lens, normal_from_angles
 
@@ -48,11 +49,31 @@ def test_estimate_plane_stores_the_orientation(photo_pixels):
     settings = scene.texsynth.plane
     assert settings.has_estimate and settings.image == "photo"
     assert settings.focal_px == pytest.approx(FOCAL, rel=1e-4)
+    assert settings.focal_source == "CAMERA"
     got = (math.degrees(settings.slant), math.degrees(settings.tilt))
     n_true, n_got = normal_from_angles(SLANT, TILT), normal_from_angles(*got)
     assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 5.0
     assert 0.0 < settings.confidence <= 1.0
     assert not settings.tilt_ambiguous
+
+
+def test_estimate_reads_the_focal_length_from_the_photo_files_exif(photo_pixels, tmp_path):
+    """A phone JPEG: its 35 mm equivalent focal length is used, and the panel says so."""
+    generated = _photo(photo_pixels)
+    path = tmp_path / "phone.jpg"
+    generated.filepath_raw = str(path)
+    generated.file_format = "JPEG"
+    generated.save()
+    bpy.data.images.remove(generated)
+    path.write_bytes(with_exif(path.read_bytes(), {}, {FOCAL_35MM: (SHORT, 33)}))
+    bpy.data.images.load(str(path)).name = "photo"
+    assert bpy.ops.texsynth.estimate_plane(image="photo") == {"FINISHED"}
+    settings = bpy.context.scene.texsynth.plane
+    assert settings.focal_source == "EXIF" and not settings.focal_estimated
+    assert settings.focal_px == pytest.approx(33 / math.hypot(36, 24) * math.hypot(256, 256))
+    got = (math.degrees(settings.slant), math.degrees(settings.tilt))
+    n_true, n_got = normal_from_angles(SLANT, TILT), normal_from_angles(*got)
+    assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 6.0
 
 
 def test_align_camera_poses_a_new_camera_on_the_active_plane(photo_pixels):

@@ -25,7 +25,7 @@ from .geometry import jacobians
 __all__ = ["texture_mask"]
 
 _MIN_SIDE = 64           # smallest image side accepted (pixels)
-_ANALYSIS_SIDE = 384    # images are block-averaged down to at most this longer side
+_ANALYSIS_SIDE = 320    # images are block-averaged down to at most this longer side
 _ANGLES = 8             # orientation bins over [0, pi): the filter bank's K
 _DLOG = 0.5             # radial bin width in octaves
 _LOG_RANGE = (-14.0, 2.0)  # log2 cycles/px covered by the radial bins (texture frame)
@@ -165,23 +165,30 @@ class Criterion:
         a, b, c, d = (jac[:, i, j, None] for i in (0, 1) for j in (0, 1))
         signed = a * d - b * c
         det = np.abs(signed[:, 0])
-        nu_x = (d * s.w[0] - c * s.w[1]) / signed  # nu = J^-T w, (N, M)
-        nu_y = (a * s.w[1] - b * s.w[0]) / signed
-        fr = (0.5 * np.log2(nu_x * nu_x + nu_y * nu_y) - _LOG_RANGE[0]) / _DLOG
+        # nu = J^-T w, (N, M), in float32 (bin positions need no more; twice the speed)
+        wx, wy = s.w.astype(np.float32)
+        inv = [(x / signed).astype(np.float32) for x in (d, c, a, b)]
+        nu_x = inv[0] * wx - inv[1] * wy
+        nu_y = inv[2] * wy - inv[3] * wx
+        fr = (np.float32(0.5) * np.log2(nu_x * nu_x + nu_y * nu_y)
+              - np.float32(_LOG_RANGE[0])) / np.float32(_DLOG)
         fr = np.clip(fr, 0.0, self.scales - 1.001)  # the end bins, never valid, take overflow
-        ft = (np.arctan2(nu_y, nu_x) % math.pi) / (math.pi / _ANGLES) - 0.5
+        ft = (np.arctan2(nu_y, nu_x) % np.float32(math.pi)) / np.float32(math.pi / _ANGLES) \
+            - np.float32(0.5)
         r0, t0 = np.floor(fr), np.floor(ft)
         a, b = fr - r0, ft - t0
-        t0 = t0.astype(np.int64)
-        cell = (np.arange(len(det)) * self.cells)[:, None] + r0.astype(np.int64) * _ANGLES
-        t_lo, t_hi = t0 % _ANGLES, (t0 + 1) % _ANGLES
-        idx = np.stack([cell + t_lo, cell + t_hi, cell + _ANGLES + t_lo, cell + _ANGLES + t_hi])
-        weight = np.stack([(1 - a) * (1 - b), (1 - a) * b, a * (1 - b), a * b])
         n = len(det) * self.cells
-        idx, weight = idx.ravel(), weight.ravel()
-        wsum = np.bincount(idx, weight, n)
-        w2sum = np.bincount(idx, weight * weight, n)
-        psum = np.bincount(idx, weight * np.broadcast_to(s.psd, (4, *s.psd.shape)).ravel(), n)
+        lo = ((np.arange(len(det)) * self.cells)[:, None] + r0.astype(np.int64) * _ANGLES)
+        t_lo = t0.astype(np.int64) % _ANGLES
+        t_hi = (t_lo + 1) % _ANGLES
+        psd = s.psd
+        wsum, w2sum, psum = np.zeros(n), np.zeros(n), np.zeros(n)
+        for idx, weight in ((lo + t_lo, (1 - a) * (1 - b)), (lo + t_hi, (1 - a) * b),
+                            (lo + _ANGLES + t_lo, a * (1 - b)), (lo + _ANGLES + t_hi, a * b)):
+            idx, weight = idx.ravel(), weight.ravel().astype(np.float64)
+            wsum += np.bincount(idx, weight, n)
+            w2sum += np.bincount(idx, weight * weight, n)
+            psum += np.bincount(idx, weight * psd.ravel(), n)
         shape = (len(det), self.scales, _ANGLES)
         wsum, w2sum, psum = (x.reshape(shape) for x in (wsum, w2sum, psum))
         expected = s.size ** 2 * det[:, None, None] * self.band_area[None, :, None]
