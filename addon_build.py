@@ -46,6 +46,7 @@ WHEELS = REPO / "wheels"
 DIST = REPO / "dist"
 OUT = REPO / "out"
 SAMPLE = REPO / "samples" / "pool_water.png"
+PURE = "3"  # wheel_key's Python of a py3-none-any wheel: any Python 3
 DEV_PYTHON = "3.11"  # Blender 4.2 to 5.0, and the only Python the bpy 4.2-5.0 wheels support
 
 #: Blender platform -> pip platform tags of the oldest system its zip supports: Blender 4.2+
@@ -155,15 +156,26 @@ def _normalized(name: str) -> str:
 
 
 def wheel_key(filename: str, blender_ext=None) -> tuple[str, str, str, tuple[str, ...]]:
-    """(package, version, Python 'X.Y', Blender platforms) of a wheel's file name."""
+    """(package, version, Python 'X.Y', Blender platforms) of a wheel's file name.
+
+    A pure-Python wheel (``py3-none-any``) serves every Python 3 and every platform: its Python
+    is ``PURE`` and its platforms are all of :data:`PLATFORMS`.
+    """
     blender_ext = blender_ext or _blender_ext()
     parts = filename.removesuffix(".whl").split("-")
-    python_tag, platform_tag = parts[-3], parts[-1]
+    python_tag, abi_tag, platform_tag = parts[-3:]
+    if (python_tag, abi_tag, platform_tag) == ("py3", "none", "any"):
+        return _normalized(parts[0]), parts[1], PURE, tuple(PLATFORMS)
     if not re.fullmatch(r"cp3\d+", python_tag):
-        raise ValueError(f"{filename}: not a CPython wheel ({python_tag})")
+        raise ValueError(f"{filename}: neither a CPython nor a py3-none-any wheel ({python_tag})")
     python = f"3.{python_tag[3:]}"
     platforms = tuple(blender_ext.blender_platforms_from_wheel_platform(platform_tag))
     return _normalized(parts[0]), parts[1], python, platforms
+
+
+def serves(wheel_python: str, python: str) -> bool:
+    """Whether a wheel whose :func:`wheel_key` Python is ``wheel_python`` installs on ``python``."""
+    return wheel_python in (python, PURE)
 
 
 def _manifest_wheels() -> list[str]:
@@ -187,8 +199,8 @@ def download_wheels() -> list[str]:
         for python, release in releases.items():
             for platform, tags in PLATFORMS.items():
                 key = (_normalized(package), release, python, platform)
-                path = locked.get(key) or _download(package, release, python, platform, tags,
-                                                    blender_ext)
+                path = (locked.get(key) or locked.get((*key[:2], PURE, platform))
+                        or _download(package, release, python, platform, tags, blender_ext))
                 if path not in wheels:
                     wheels.append(path)
     _write_manifest_lists(list(PLATFORMS), wheels)
@@ -204,7 +216,8 @@ def _download(package, release, python, platform, tags, blender_ext) -> str:
              *(f"--platform={tag}" for tag in tags), "-d", tmp, f"{package}=={release}")
         (wheel,) = Path(tmp).glob("*.whl")
         got = wheel_key(wheel.name, blender_ext)
-        if got[:3] != (_normalized(package), release, python) or platform not in got[3]:
+        if got[:2] != (_normalized(package), release) or not serves(got[2], python) \
+                or platform not in got[3]:
             sys.exit(f"pip gave {wheel.name} for {package} {release}, Python {python}, "
                      f"{platform}")
         shutil.move(wheel, WHEELS / wheel.name)
@@ -358,7 +371,7 @@ def _wheels_here(python: str) -> list[str]:
     here = blender_ext.platform_from_this_system()
     keys = {path: wheel_key(Path(path).name, blender_ext) for path in _manifest_wheels()}
     return [str(REPO / path) for path, (_, _, py, platforms) in keys.items()
-            if py == python and here in platforms]
+            if serves(py, python) and here in platforms]
 
 
 COMMANDS = {"setup": setup, "build": build, "validate": validate, "repo": repo, "demo": demo,

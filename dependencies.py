@@ -24,9 +24,12 @@ import bpy
 #: installs, of one package, the highest version (on a tie, the name sorting last: cp313), so
 #: the Python 3.13 wheels are the previous patch release. scipy 1.15 is the last release that
 #: supports Blender 4.2's numpy 1.24 (1.16 needs numpy >= 1.25.2) and Blender 5.1's numpy 2.
+#: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
+#: serves every Python and platform.
 BUNDLED = {
     "scipy": {"3.11": "1.15.3", "3.13": "1.15.2"},
     "OpenEXR": {"3.11": "3.5.3", "3.13": "3.5.2"},
+    "exifread": {"3.11": "3.5.1", "3.13": "3.5.1"},
 }
 
 _problem = None  # the message shown while TexSynth cannot work, or None

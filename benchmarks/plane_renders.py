@@ -5,7 +5,7 @@ cue), the texture repeated on a large plane with a random offset and rotation, a
 beyond it (the texture's periodic component, Moisan 2011, so that repeats show no seam
 lines), and a camera at a random slant in [0, 70) degrees, random azimuth and roll (so a random
 tilt), orthographic or a 35 / 50 mm lens on a 36 mm sensor. The slant and tilt are computed from
-the camera's world matrix and the plane's normal, independently of ``texsynth.estimate``.
+the camera's world matrix and the plane's normal, independently of ``texsynth.plane``.
 
 Renders are cached as 8-bit PNG (a photo's encoding) with a JSON sidecar under
 ``benchmarks/.cache/plane_renders`` (gitignored); a view is re-rendered when its parameters change.
@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.cycles import cpu_scene
-from texsynth import estimate
 from texsynth.blocks.color import srgb_to_linear
 from texsynth.blocks.periodic import periodic_component
 from texsynth.io import read_png
+from texsynth.plane import angles_from_normal, focal_px_from_lens
 
 __all__ = ["View", "make_views", "render_views", "camera_rotation", "ground_truth"]
 
@@ -61,8 +61,7 @@ class View:
     @property
     def focal_px(self) -> float | None:
         lens = self.lens_mm
-        return None if lens is None else estimate.focal_px_from_lens(lens, SENSOR_MM, WIDTH,
-                                                                     HEIGHT)
+        return None if lens is None else focal_px_from_lens(lens, SENSOR_MM, WIDTH, HEIGHT)
 
     def key(self) -> str:
         text = json.dumps([asdict(self), WIDTH, HEIGHT, SAMPLES, PLANE_HALF], sort_keys=True)
@@ -86,7 +85,7 @@ def camera_rotation(elevation: float, azimuth: float, roll: float) -> np.ndarray
 def ground_truth(rotation: np.ndarray) -> tuple[float, float]:
     """(slant, tilt) of the world XY plane (normal +Z) seen by a camera of this rotation."""
     normal_camera = rotation.T @ np.array([0.0, 0.0, 1.0])
-    return estimate.angles_from_normal(normal_camera)
+    return angles_from_normal(normal_camera)
 
 
 def make_views(textures, per_texture: int, seed: int = 6) -> list[View]:

@@ -3,8 +3,9 @@
     python examples/rectify_photo.py PHOTO [--focal-px F] [--width 1024] [--height 1024]
         [--method heeger_bergen] [--seed 0] [--out out]
 
-Estimates the plane's slant and tilt from the texture (``texsynth.estimate_plane``; the focal
-length in pixels of PHOTO when known, else estimated), prints them, writes the frontal view
+Estimates the plane's slant and tilt from the texture and its lines (``texsynth.estimate_plane``;
+the focal length in pixels of PHOTO when known: ``--focal-px``, else the file's EXIF, else
+estimated), prints them, writes the frontal view
 ``<photo>_rectified.png`` and a ``--width`` x ``--height`` seamless texture synthesized from it,
 ``<photo>_<method>_<seed>.png`` (``--width 0`` skips the synthesis). PNG or OpenEXR in; no
 Blender needed.
@@ -24,7 +25,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("photo", type=Path)
     parser.add_argument("--focal-px", type=float, default=None,
-                        help="focal length in pixels of the photo (default: estimated)")
+                        help="focal length in pixels of the photo (default: from its EXIF, "
+                             "else estimated)")
     parser.add_argument("--width", type=int, default=1024)
     parser.add_argument("--height", type=int, default=1024)
     parser.add_argument("--method", default="heeger_bergen",
@@ -35,7 +37,9 @@ def main(argv=None):
 
     photo = io.read_image(args.photo)
     try:
-        plane = texsynth.estimate_plane(photo, focal_px=args.focal_px)
+        focal_px = args.focal_px if args.focal_px is not None else \
+            texsynth.focal_px_from_file(args.photo)
+        plane = texsynth.estimate_plane(photo, focal_px=focal_px)
         frontal = texsynth.rectify(photo, plane)
     except ValueError as error:
         parser.error(f"{args.photo}: {error}")

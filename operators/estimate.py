@@ -1,9 +1,10 @@
 """Plane orientation from a photo (shape from texture, Forsyth & Ponce, sec. 11.4.1): estimate,
-align the camera, rectify. The work is the core's ``texsynth.estimate``.
+align the camera, rectify. The work is the core's ``texsynth.plane``.
 
 * ``texsynth.estimate_plane`` reads a photo (the operator's ``image``, else the Image Editor's
   image, else the panel's photo, else the active Image Texture node's image) and stores slant,
-  tilt (radians), focal length and confidence in ``scene.texsynth.plane``
+  tilt (radians), focal length (the scene camera's when asked, else the photo file's EXIF,
+  else estimated; ``focal_source`` says which) and confidence in ``scene.texsynth.plane``
   (``properties.TEXSYNTH_PG_plane``).
 * ``texsynth.align_camera`` poses the scene camera (made if missing) so that the active object's
   local XY plane (world XY at the origin when nothing is active) is seen at that slant and tilt.
@@ -12,16 +13,17 @@ align the camera, rectify. The work is the core's ``texsynth.estimate``.
 
 Align and rectify need a stored estimate: until there is one their ``poll()`` is False and says
 so. Every check happens before anything changes: on error the file is as it was. The estimate
-works on a copy of the photo reduced to at most 384 pixels on its longer side, so it is quick
+works on a copy of the photo reduced to at most 320 pixels on its longer side, so it is quick
 on a photo of any size and the operators run synchronously (no :class:`job.JobOperator`).
 """
 
 import math
+import os
 
 import bpy
 from mathutils import Matrix
 
-from ..texsynth import estimate
+from ..texsynth import plane as estimate
 from . import output, pixels, source
 
 DEFAULT_DISTANCE = 5.0
@@ -62,6 +64,14 @@ def camera_focal_px(scene, width: int, height: int) -> float:
     fit = data.sensor_fit
     sensor = data.sensor_height if fit == "VERTICAL" else data.sensor_width
     return estimate.focal_px_from_lens(data.lens, sensor, width, height, fit)
+
+
+def file_focal_px(image) -> float | None:
+    """The focal length in pixels from the EXIF of the image's file, if it has one on disk."""
+    if image.source != "FILE" or image.packed_file is not None or not image.filepath:
+        return None
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    return estimate.focal_px_from_file(path) if os.path.isfile(path) else None
 
 
 def stored_estimate(settings) -> estimate.PlaneEstimate:
@@ -120,10 +130,16 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
             image = find_photo(context, self.image)
             photo, _ = pixels.read_exemplar(image)
             height, width = photo.shape[:2]
-            focal = camera_focal_px(context.scene, width, height) \
-                if settings.use_camera_focal and settings.method == "AUTO" else None
+            focal, focal_source = None, "NONE"
+            if settings.method == "AUTO":
+                if settings.use_camera_focal:
+                    focal, focal_source = camera_focal_px(context.scene, width, height), "CAMERA"
+                elif (focal := file_focal_px(image)) is not None:
+                    focal_source = "EXIF"
             result = estimate.estimate_plane(photo, focal_px=focal,
                                              method=settings.method.lower())
+            if result.focal_estimated:
+                focal_source = "ESTIMATED"
         except ValueError as error:
             return _fail(self, error)
         settings.has_estimate = True
@@ -133,10 +149,13 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         settings.tilt = math.radians(result.tilt)
         settings.focal_px = result.focal_px or 0.0
         settings.focal_estimated = result.focal_estimated
+        settings.focal_source = focal_source
         settings.tilt_ambiguous = result.tilt_ambiguous_180
         settings.confidence = result.confidence
         settings.uncertainty = math.radians(min(result.normal_uncertainty, 90.0))
-        lens = f", focal {result.focal_px:.0f} px" if result.focal_px else ", orthographic"
+        where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
+        lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \
+            if result.focal_px else ", orthographic"
         either = " (or +180)" if result.tilt_ambiguous_180 else ""
         self.report({"INFO"}, f"'{image.name}': slant {result.slant:.1f}°, tilt "
                               f"{result.tilt:.1f}°{either}{lens}, confidence "

@@ -134,6 +134,9 @@ class PlanePanel:
         if settings.tilt_ambiguous:
             box.label(text="Tilt may be off by 180°", icon="INFO")
         box.prop(settings, "focal_px")
+        box.label(text="Focal length from: " + dict((k, n) for k, n, _ in
+                                                    properties.FOCAL_SOURCES)[settings.focal_source],
+                  icon="CAMERA_DATA")
         box.prop(settings, "confidence")
         layout.prop(settings, "add_background")
         layout.operator("texsynth.align_camera", icon="CAMERA_DATA")

@@ -46,6 +46,12 @@ OUTPUT_ITEMS = (
 COMMON = ("method", "width", "height", "seed", "output", "output_dir")
 #: The plane estimate's methods offered to users (the core's "moments" baseline is for
 #: benchmarks only).
+FOCAL_SOURCES = (
+    ("EXIF", "EXIF", "Read from the photo file's EXIF (the camera wrote it)"),
+    ("CAMERA", "Scene Camera", "The scene camera's lens and sensor"),
+    ("ESTIMATED", "Estimated", "Estimated from the photo's perspective"),
+    ("NONE", "None (Orthographic)", "No perspective: the estimate is orthographic"),
+)
 PLANE_METHOD_ITEMS = (
     ("AUTO", "Auto", "Isotropy and homogeneity under perspective: the receding direction and, "
                      "when the focal length is unknown, an estimate of it"),
@@ -267,7 +273,7 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
     use_camera_focal: bpy.props.BoolProperty(
         name="Taken with Scene Camera",
         description="The photo was taken with the scene camera's lens and sensor: use its focal "
-                    "length instead of estimating it")
+                    "length instead of the photo file's EXIF or an estimate")
     add_background: bpy.props.BoolProperty(
         name="Photo as Background", default=True,
         description="Show the photo as the camera's background image when aligning")
@@ -286,6 +292,9 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
         name="Focal Length", subtype="PIXEL", min=0.0,
         description="Focal length in pixels of the photo; 0: orthographic (unknown)")
     focal_estimated: bpy.props.BoolProperty(name="Focal Estimated", options={"HIDDEN"})
+    focal_source: bpy.props.EnumProperty(
+        name="Focal Length From", items=FOCAL_SOURCES, default="NONE",
+        description="Where the estimate's focal length came from")
     tilt_ambiguous: bpy.props.BoolProperty(
         name="Tilt Ambiguous",
         description="The receding direction is not determined: tilt + 180 degrees fits as well")

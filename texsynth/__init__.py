@@ -17,7 +17,7 @@ from . import algorithms
 from .algorithms import composite, cooccurrence
 from .algorithms.composite import segmentation
 from .api import synthesize, synthesize_positions
-from .estimate import PlaneEstimate, camera_pose, estimate_plane, rectify
+from .plane import PlaneEstimate, camera_pose, estimate_plane, focal_px_from_file, rectify
 from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get_method, methods
@@ -45,5 +45,6 @@ __all__ = [
     "estimate_plane",
     "rectify",
     "camera_pose",
+    "focal_px_from_file",
     "PlaneEstimate",
 ]

@@ -9,8 +9,9 @@ import pytest
 from mathutils import Vector
 from scenes import fingerprint, generated_image, material_with
 
-from tests._planes import noise_texture, photograph
-from texsynth import estimate
+from tests._exif import FOCAL_35MM, SHORT, with_exif
+from tests._planes import noise_texture, photograph, spectral_slant
+from texsynth.plane import angles_from_normal, focal_px_from_lens, normal_from_angles
 
 SLANT, TILT, FOCAL = 50.0, 120.0, 280.0
 
@@ -47,11 +48,31 @@ def test_estimate_plane_stores_the_orientation(photo_pixels):
     settings = scene.texsynth.plane
     assert settings.has_estimate and settings.image == "photo"
     assert settings.focal_px == pytest.approx(FOCAL, rel=1e-4)
+    assert settings.focal_source == "CAMERA"
     got = (math.degrees(settings.slant), math.degrees(settings.tilt))
-    n_true, n_got = estimate.normal_from_angles(SLANT, TILT), estimate.normal_from_angles(*got)
+    n_true, n_got = normal_from_angles(SLANT, TILT), normal_from_angles(*got)
     assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 5.0
     assert 0.0 < settings.confidence <= 1.0
     assert not settings.tilt_ambiguous
+
+
+def test_estimate_reads_the_focal_length_from_the_photo_files_exif(photo_pixels, tmp_path):
+    """A phone JPEG: its 35 mm equivalent focal length is used, and the panel says so."""
+    generated = _photo(photo_pixels)
+    path = tmp_path / "phone.jpg"
+    generated.filepath_raw = str(path)
+    generated.file_format = "JPEG"
+    generated.save()
+    bpy.data.images.remove(generated)
+    path.write_bytes(with_exif(path.read_bytes(), {}, {FOCAL_35MM: (SHORT, 33)}))
+    bpy.data.images.load(str(path)).name = "photo"
+    assert bpy.ops.texsynth.estimate_plane(image="photo") == {"FINISHED"}
+    settings = bpy.context.scene.texsynth.plane
+    assert settings.focal_source == "EXIF" and not settings.focal_estimated
+    assert settings.focal_px == pytest.approx(33 / math.hypot(36, 24) * math.hypot(256, 256))
+    got = (math.degrees(settings.slant), math.degrees(settings.tilt))
+    n_true, n_got = normal_from_angles(SLANT, TILT), normal_from_angles(*got)
+    assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 6.0
 
 
 def test_align_camera_poses_a_new_camera_on_the_active_plane(photo_pixels):
@@ -69,12 +90,12 @@ def test_align_camera_poses_a_new_camera_on_the_active_plane(photo_pixels):
     assert camera is not None and camera.data.type == "PERSP"
     rotation = np.array(camera.matrix_world.to_3x3())
     normal = np.array(plane.matrix_world.to_3x3().normalized().col[2])
-    slant, tilt = estimate.angles_from_normal(rotation.T @ normal)
+    slant, tilt = angles_from_normal(rotation.T @ normal)
     assert slant == pytest.approx(SLANT, abs=1e-3) and tilt == pytest.approx(TILT, abs=1e-3)
     to_plane = plane.matrix_world.translation - camera.matrix_world.translation
     assert (camera.matrix_world.to_3x3().inverted() @ to_plane).normalized().z == \
         pytest.approx(-1.0, abs=1e-6)
-    focal_px = estimate.focal_px_from_lens(camera.data.lens, camera.data.sensor_width, 256, 256)
+    focal_px = focal_px_from_lens(camera.data.lens, camera.data.sensor_width, 256, 256)
     assert focal_px == pytest.approx(FOCAL, rel=1e-5)
     assert (scene.render.resolution_x, scene.render.resolution_y) == (256, 256)
     assert [b.image.name for b in camera.data.background_images] == ["photo"]
@@ -107,7 +128,7 @@ def test_rectify_makes_a_new_frontal_image(photo_pixels):
     assert min(width, height) >= 48
     np.testing.assert_array_equal(np.array(image.pixels[:]), before)
     values = np.array(rectified.pixels[:]).reshape(height, width, 4)[:, :, 0]
-    assert estimate.estimate_plane(values, method="moments").slant < 30.0  # frontal: 13-20
+    assert spectral_slant(values) < 30.0  # frontal: 13-20
 
 
 def _blank(pixels):

@@ -1,0 +1,96 @@
+"""The focal length in pixels from a photo's EXIF, as cameras and phones write it.
+
+The files are built byte by byte (tests/_exif.py), so no image library and no shared photo is
+needed.
+"""
+
+import math
+import struct
+
+import pytest
+from _exif import (
+    FOCAL_35MM,
+    FOCAL_LENGTH,
+    FOCAL_PLANE_UNIT,
+    FOCAL_PLANE_X,
+    IMAGE_LENGTH,
+    IMAGE_WIDTH,
+    LONG,
+    ORIENTATION,
+    PIXEL_X,
+    PIXEL_Y,
+    RATIONAL,
+    SHORT,
+)
+from _exif import (
+    jpeg as _jpeg,
+)
+from _exif import (
+    tiff as _tiff,
+)
+
+import texsynth
+from texsynth.plane import focal_px_from_file
+
+
+def test_focal_plane_resolution_gives_the_focal_length_of_the_stored_image(tmp_path):
+    # A 4.2 mm lens on a 5.6 mm wide sensor recording 4000 px: f = 3000 px; the file holds the
+    # photo resized to 2000 x 1500, so 1500 px.
+    exif = {FOCAL_LENGTH: (RATIONAL, (42, 10)), FOCAL_PLANE_X: (RATIONAL, (400000, 56)),
+            FOCAL_PLANE_UNIT: (SHORT, 3), PIXEL_X: (LONG, 4000), PIXEL_Y: (LONG, 3000),
+            FOCAL_35MM: (SHORT, 99)}  # ignored: the focal plane resolution comes first
+    path = tmp_path / "photo.jpg"
+    path.write_bytes(_jpeg(4000, 3000, {}, exif))
+    assert focal_px_from_file(path) == pytest.approx(3000.0)
+    path.write_bytes(_jpeg(2000, 1500, {}, exif))
+    assert focal_px_from_file(path) == pytest.approx(1500.0)
+    assert texsynth.focal_px_from_file is focal_px_from_file
+
+
+def test_orientation_matches_the_recorded_width_to_the_stored_side(tmp_path):
+    # A portrait photo turned by a program: stored 1500 x 2000, camera sizes 4000 x 3000 kept,
+    # Orientation 6 (rotated 90 deg). The recorded width is the stored height.
+    exif = {FOCAL_LENGTH: (RATIONAL, (42, 10)), FOCAL_PLANE_X: (RATIONAL, (400000, 56)),
+            FOCAL_PLANE_UNIT: (SHORT, 3), PIXEL_X: (LONG, 4000), PIXEL_Y: (LONG, 3000)}
+    path = tmp_path / "turned.jpg"
+    path.write_bytes(_jpeg(1500, 2000, {ORIENTATION: (SHORT, 6)}, exif))
+    assert focal_px_from_file(path) == pytest.approx(1500.0)
+    # Without the Orientation tag the sizes are taken as they are: the stored width.
+    path.write_bytes(_jpeg(1500, 2000, {}, exif))
+    assert focal_px_from_file(path) == pytest.approx(1125.0)
+
+
+def test_35mm_equivalent_uses_the_diagonal(tmp_path):
+    path = tmp_path / "phone.jpg"
+    path.write_bytes(_jpeg(4032, 3024, {ORIENTATION: (SHORT, 1)},
+                           {FOCAL_LENGTH: (RATIONAL, (399, 100)), FOCAL_35MM: (SHORT, 26)}))
+    expected = 26 / math.hypot(36, 24) * math.hypot(4032, 3024)
+    assert focal_px_from_file(path) == pytest.approx(expected)
+
+
+def test_tiff_with_the_tags_in_ifd0(tmp_path):
+    path = tmp_path / "scan.tif"
+    path.write_bytes(_tiff({IMAGE_WIDTH: (LONG, 3000), IMAGE_LENGTH: (LONG, 2000),
+                            FOCAL_35MM: (SHORT, 50)}, {}))
+    assert focal_px_from_file(path) == pytest.approx(50 / math.hypot(36, 24)
+                                                     * math.hypot(3000, 2000))
+
+
+def test_files_that_do_not_say_give_none(tmp_path):
+    bare = tmp_path / "bare.jpg"
+    bare.write_bytes(_jpeg(640, 480, {ORIENTATION: (SHORT, 1)}, {PIXEL_X: (LONG, 640)}))
+    assert focal_px_from_file(bare) is None
+    absurd = tmp_path / "absurd.jpg"  # a zero focal length and an impossible field of view
+    absurd.write_bytes(_jpeg(640, 480, {}, {FOCAL_LENGTH: (RATIONAL, (0, 1)),
+                                            FOCAL_PLANE_X: (RATIONAL, (400, 1)),
+                                            FOCAL_35MM: (SHORT, 60000)}))
+    assert focal_px_from_file(absurd) is None
+    png = tmp_path / "image.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\n" + struct.pack(">I", 13) + b"IHDR"
+                    + struct.pack(">IIBBBBB", 64, 64, 8, 2, 0, 0, 0))
+    assert focal_px_from_file(png) is None
+
+
+def test_a_missing_file_is_refused(tmp_path):
+    with pytest.raises(ValueError, match="no image file"):
+        focal_px_from_file(tmp_path / "nope.jpg")

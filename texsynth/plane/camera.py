@@ -1,0 +1,57 @@
+"""Cameras: Blender's lens and sensor fit to a focal length in pixels, and the camera pose that
+sees a plane at a given slant and tilt (conventions in :mod:`texsynth.plane.geometry`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .geometry import normal_from_angles
+
+__all__ = ["camera_pose", "focal_px_from_lens", "lens_from_focal_px"]
+
+
+def focal_px_from_lens(lens_mm: float, sensor_mm: float, width: int, height: int,
+                       sensor_fit: str = "AUTO") -> float:
+    """Focal length in pixels of a Blender camera (sensor fit AUTO, HORIZONTAL or VERTICAL)."""
+    if sensor_fit == "VERTICAL":
+        side = height
+    elif sensor_fit == "HORIZONTAL":
+        side = width
+    else:
+        side = max(width, height)
+    return lens_mm / sensor_mm * side
+
+
+def lens_from_focal_px(focal_px: float, sensor_mm: float, width: int, height: int,
+                       sensor_fit: str = "AUTO") -> float:
+    """Inverse of :func:`focal_px_from_lens`: the lens in millimetres."""
+    return focal_px * sensor_mm / focal_px_from_lens(1.0, 1.0, width, height, sensor_fit)
+
+
+def camera_pose(slant: float, tilt: float, distance: float, plane_matrix=None) -> np.ndarray:
+    """4 x 4 camera-to-world matrix that sees a plane at ``slant`` and ``tilt`` (degrees).
+
+    The plane is the local XY plane of ``plane_matrix`` (4 x 4, world from plane; identity if
+    None) with normal +Z. The camera (Blender convention: looks along its -Z, +Y up) aims at the
+    plane's origin from ``distance``; the plane's +X and +Y axes appear in the picture as the
+    rectified image's x and y axes (see :func:`rectify`), so texturing the plane with the
+    rectified photo at default UVs reproduces the photo.
+    """
+    if not distance > 0:
+        raise ValueError(f"distance must be positive, got {distance}")
+    s, t = math.radians(slant), math.radians(tilt)
+    e1 = np.array([math.cos(s) * math.cos(t), math.cos(s) * math.sin(t), -math.sin(s)])
+    e2 = np.array([-math.sin(t), math.cos(t), 0.0])
+    n = normal_from_angles(slant, tilt)
+    # Plane axes in camera coordinates: the rectified image's x and y directions (see rectify).
+    axes = np.stack([math.cos(t) * e1 - math.sin(t) * e2,
+                     math.sin(t) * e1 + math.cos(t) * e2, n], axis=1)
+    rot = axes.T  # camera -> plane
+    camera = np.eye(4)
+    camera[:3, :3] = rot
+    camera[:3, 3] = rot @ np.array([0.0, 0.0, distance])
+    world = np.eye(4) if plane_matrix is None else np.asarray(plane_matrix, dtype=np.float64)
+    return world @ camera
+

@@ -1,0 +1,153 @@
+"""Texture and line evidence in one estimate, with one uncertainty.
+
+The unknowns are theta = (p, w): the gradient p (:mod:`~texsynth.plane.geometry`) and, when the
+focal length is unknown, w = side / f (0: orthographic), so v = p w / side. The texture fit
+enters as a Gaussian in theta with its own covariance (isotropy's bias on directional textures is
+already in it); the line families enter through their chi-square (:class:`~.lines.LineCost`),
+non-linear and possibly rank-deficient (one family: one constraint). The estimate minimises half
+their sum; its covariance is the inverse Hessian there, widened by the tension between the two
+when they disagree by more than their uncertainties.
+
+The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
+(vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .lines import LineCost, Segments, vanishing_point
+from .search import hessian, minimize
+
+__all__ = ["Combined", "combine"]
+
+_W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no perspective seen)
+_DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
+_WEAK = 1e-3     # the texture's weight while the line noise is calibrated
+_MAX_P = 12.0    # |p| = tan(slant) bound of the search (slant 85 deg)
+_DETERMINED = 3.0  # deg: lines alone fixing the slant this well make the estimate line-based
+
+
+@dataclass(frozen=True)
+class Combined:
+    """The combined fit in analysis-image pixels (as the texture fit's record)."""
+
+    p: np.ndarray
+    focal: float | None
+    cov: np.ndarray       # (slant, tilt) covariance, degrees^2
+    focal_sd: float | None  # relative
+    ambiguous: bool
+    determined: bool      # the lines alone fix p (the texture's assumptions are not needed)
+
+
+def _p_covariance(p: np.ndarray, cov_st: np.ndarray) -> np.ndarray:
+    """Covariance of p from that of (slant, tilt) in degrees."""
+    slant, tilt = math.atan(math.hypot(*p)), math.atan2(p[1], p[0])
+    jac = np.array([[math.cos(tilt) / math.cos(slant) ** 2, -math.tan(slant) * math.sin(tilt)],
+                    [math.sin(tilt) / math.cos(slant) ** 2, math.tan(slant) * math.cos(tilt)]])
+    jac = jac * (math.pi / 180.0)
+    return jac @ cov_st @ jac.T + np.eye(2) * 1e-8
+
+
+def _st_covariance(p: np.ndarray, cov_p: np.ndarray) -> np.ndarray:
+    """Covariance of (slant, tilt) in degrees from that of p."""
+    r = max(math.hypot(*p), 1e-6)
+    slant = math.atan(r)
+    jac = np.array([[p[0] / r * math.cos(slant) ** 2, p[1] / r * math.cos(slant) ** 2],
+                    [-p[1] / r ** 2, p[0] / r ** 2]]) * (180.0 / math.pi)
+    cov = jac @ cov_p @ jac.T
+    cov[1, 1] = min(cov[1, 1], 180.0 ** 2)
+    return cov
+
+
+def _closed_form(found: list[Segments], side: float, focal: float | None) -> list[np.ndarray]:
+    """Starts from two finite vanishing points x1, x2 (v . x = 1 for both; f^2 = -x1 . x2 when
+    the focal length is unknown)."""
+    if len(found) < 2:
+        return []
+    vps = [vanishing_point(f, side) for f in found]
+    if any(x is None for x in vps):
+        return []
+    x = np.array(vps)
+    if abs(np.linalg.det(x)) < 1e-9 * side * side:
+        return []
+    v = np.linalg.solve(x, np.ones(2))
+    if focal is None:
+        f2 = -float(x[0] @ x[1])
+        if f2 <= 0:
+            return []
+        focal = math.sqrt(f2)
+        return [np.array([*(v * focal), side / focal])]
+    return [v * focal]
+
+
+def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
+            focal_t: float | None, focal_sd_t: float | None, ambiguous_t: bool,
+            focal_given: float | None) -> Combined:
+    """The plane that best explains the texture fit (p_t, cov_t, focal_t, focal_sd_t,
+    ambiguous_t) and the line families in ``cost``; ``focal_given``: the known focal length
+    (analysis pixels), else it is estimated with the rest."""
+    known = focal_given is not None
+    cov_prior = _p_covariance(p_t, cov_t)
+    theta_t = np.asarray(p_t, dtype=np.float64)
+    if not known:
+        w_t = 0.0 if focal_t is None else side / focal_t
+        s_w = _W_PRIOR if focal_t is None else max(w_t * (focal_sd_t or 1.0), 0.05)
+        theta_t = np.append(theta_t, w_t)
+        cov_prior = np.block([[cov_prior, np.zeros((2, 1))], [np.zeros((1, 2)), s_w ** 2]])
+    info = np.linalg.inv(cov_prior)
+    mirror = theta_t * np.array([-1.0, -1.0, 1.0][:len(theta_t)])
+
+    def split(theta):
+        p = np.asarray(theta[:2])
+        if known:
+            return p, p / focal_given
+        return p, p * max(theta[2], 0.0) / side
+
+    def prior(theta):
+        d1, d2 = theta - theta_t, theta - mirror
+        return 0.5 * min(float(d1 @ info @ d1), float(d2 @ info @ d2))
+
+    def lines(theta):
+        bound = max(0.0, math.hypot(theta[0], theta[1]) - _MAX_P) ** 2
+        if not known:
+            bound += min(theta[2], 0.0) ** 2
+        return 0.5 * cost(*split(theta)) + 1e4 * bound
+
+    step = np.array([0.05, 0.05, 0.05][:len(theta_t)])
+    starts = [theta_t, mirror, *_closed_form(cost.families, side, focal_given)]
+    alone = minimize(lambda th: lines(th) + _WEAK * prior(th), starts, step)
+    cost.calibrate(*split(alone.x))
+
+    def total(theta):
+        return lines(theta) + prior(theta)
+
+    best = minimize(total, [*starts, alone.x], step)
+    axis = best.x[:2] / max(np.linalg.norm(best.x[:2]), 1e-12)
+    other = minimize(lambda th: total(th) + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,
+                     [best.x * np.array([-1.0, -1.0, 1.0][:len(best.x)])], step)
+    settled = other.fun - best.fun >= _DIRECTION
+    chosen = best
+    if not settled and not ambiguous_t and float(best.x[:2] @ p_t) < 0:
+        chosen = other  # the lines cannot tell; the texture fit did
+    theta = chosen.x
+    hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
+    values, vectors = np.linalg.eigh(hess)
+    cov = (vectors / np.maximum(values, 1e-9)) @ vectors.T
+    tension = 2.0 * prior(theta) / len(theta)
+    cov *= max(1.0, tension)
+    p = np.asarray(theta[:2], dtype=np.float64)
+    cov_st = _st_covariance(p, cov[:2, :2])
+    alone = hessian(lines, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
+    weakest = float(np.linalg.eigvalsh(alone)[0])  # least-constrained combination of theta
+    determined = weakest > 0 and _st_covariance(p, np.linalg.inv(alone)[:2, :2])[0, 0] \
+        < _DETERMINED ** 2
+    if known:
+        return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
+    w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))
+    if w <= 2.0 * s_w:  # no significant perspective: an orthographic view
+        return Combined(p, None, cov_st, None, True, False)
+    return Combined(p, side / w, cov_st, s_w / w, ambiguous_t and not settled, determined)

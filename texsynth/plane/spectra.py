@@ -1,0 +1,227 @@
+"""What the plane estimate measures: the textured part of a photo, local power spectra of its
+windows, and the isotropy and homogeneity of their oriented energies once back-projected.
+
+Forsyth & Ponce, Computer Vision: A Modern Approach, sec. 11.4.1 ("Shape from texture for
+planes"). Deviations from the section, one line each:
+- oriented energies are computed in the Fourier domain of local windows (Parseval): back-projecting
+  a window by the local Jacobian J is the linear change of frequency nu = J^-T w, so no image is
+  resampled per hypothesis and no band is measured beyond what the photo resolves;
+- isotropy is the spread of *log* energy across orientations, each scale weighted alike (natural
+  spectra fall as 1/f, energy weights would keep only the coarsest scale);
+- homogeneity is the spread of log energy of each oriented band across windows, which needs no
+  texel detection (the section's marked Poisson process reasoning, applied to filter energies).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.ndimage as ndi
+
+from .. import validation
+from .geometry import jacobians
+
+__all__ = ["texture_mask"]
+
+_MIN_SIDE = 64           # smallest image side accepted (pixels)
+_ANALYSIS_SIDE = 320    # images are block-averaged down to at most this longer side
+_ANGLES = 8             # orientation bins over [0, pi): the filter bank's K
+_DLOG = 0.5             # radial bin width in octaves
+_LOG_RANGE = (-14.0, 2.0)  # log2 cycles/px covered by the radial bins (texture frame)
+_COVER = 0.6            # a window measures a band when its samples cover this share of it
+_G_MIN = 0.15           # windows must stay this far from the horizon (depth ratio 1 / g)
+
+
+def luminance(image) -> np.ndarray:
+    """Luminance (H, W) float64 of an image array, or ``ValueError`` saying what is wrong."""
+    a = validation.image(image, what="image", min_side=_MIN_SIDE, channels=(1, 2, 3, 4))
+    if a.shape[2] >= 3:
+        return a[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722])
+    return a[:, :, 0].astype(np.float64)
+
+
+def downsample(lum: np.ndarray) -> tuple[np.ndarray, int]:
+    """Block average by the integer factor that brings the longer side to _ANALYSIS_SIDE."""
+    k = max(1, math.ceil(max(lum.shape) / _ANALYSIS_SIDE))
+    if k == 1:
+        return lum, 1
+    h, w = (lum.shape[0] // k) * k, (lum.shape[1] // k) * k
+    r0, c0 = (lum.shape[0] - h) // 2, (lum.shape[1] - w) // 2
+    block = lum[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k)
+    return block.mean(axis=(1, 3)), k
+
+
+def texture_mask(lum: np.ndarray) -> np.ndarray:
+    """Pixels with texture: local band-pass RMS above a twentieth of its 90th percentile, outside
+    large flat regions.
+
+    Black borders, blown-out areas and smooth sky fall below; ``ValueError`` if nothing has texture.
+    The band-pass leaks some 30 pixels into a flat region from its edge, so flat regions (7 x 7
+    standard deviation under a twentieth of its 90th percentile) that hold a 31 x 31 square are
+    cut out whole, with a 3-pixel margin; thinner flat parts of a texture (mortar) stay in.
+    """
+    band = ndi.gaussian_filter(lum, 1.0, mode="reflect") - ndi.gaussian_filter(lum, 8.0,
+                                                                                mode="reflect")
+    local = np.sqrt(ndi.uniform_filter(band * band, 15, mode="reflect"))
+    ref = float(np.percentile(local, 90))
+    scale = float(np.abs(lum).max())
+    if not ref > 1e-4 * scale or scale == 0:
+        raise ValueError("image has no texture (it is blank or nearly constant)")
+    mean = ndi.uniform_filter(lum, 7, mode="reflect")
+    fine = np.sqrt(np.maximum(ndi.uniform_filter(lum * lum, 7, mode="reflect") - mean * mean, 0))
+    flat = (fine <= 0.05 * float(np.percentile(fine, 90))).astype(np.float32)
+    square = (ndi.uniform_filter(flat, 31, mode="nearest") > 0.999).astype(np.float32)
+    large_flat = ndi.uniform_filter(square, 37, mode="constant") > 0  # the squares, grown by 3
+    return (local > 0.05 * ref) & ~large_flat
+
+
+@dataclass(frozen=True)
+class Spectra:
+    """Periodograms of the textured windows: ``psd`` (N, M) at frequencies ``w`` (2, M)."""
+
+    psd: np.ndarray
+    w: np.ndarray
+    centres: np.ndarray  # (N, 2) window centres, centred pixel coordinates, y up
+    size: int            # window side P
+    shape: tuple[int, int]
+
+
+def spectra(lum: np.ndarray, mask: np.ndarray, w_max: float = 0.3, size: int = 64,
+             stride: float = 0.5) -> Spectra:
+    """Hann-windowed, plane-detrended periodograms on a grid of windows."""
+    h, w = lum.shape
+    size = min(size, 2 ** int(math.log2(min(h, w) / 2)))
+    rows, cols = (np.unique(np.linspace(0, n - size, round((n - size) / size / stride) + 1).round())
+                  for n in (h, w))
+    corners = [(int(r), int(c)) for r in rows for c in cols
+               if mask[int(r):int(r) + size, int(c):int(c) + size].mean() >= 0.95]
+    if not corners:
+        raise ValueError("no window of the image is textured throughout; crop to the textured "
+                         "plane or use a larger image")
+    windows = np.stack([lum[r:r + size, c:c + size] for r, c in corners])
+    # Remove each window's least-squares plane (lighting gradients leak into low frequencies).
+    yy, xx = np.mgrid[0:size, 0:size] / (size - 1) - 0.5
+    basis = np.stack([np.ones_like(xx), xx, yy]).reshape(3, -1)
+    flat = windows.reshape(len(windows), -1)
+    coef = np.linalg.lstsq(basis.T, flat.T, rcond=None)[0]
+    flat = flat - (basis.T @ coef).T
+    hann = np.hanning(size + 2)[1:-1]
+    taper = np.outer(hann, hann)
+    spectrum = np.fft.rfft2(flat.reshape(-1, size, size) * taper)
+    psd = (spectrum.real ** 2 + spectrum.imag ** 2) / (taper ** 2).sum()
+    fx = np.fft.rfftfreq(size)[None, :] + 0 * np.fft.fftfreq(size)[:, None]
+    fy = -np.fft.fftfreq(size)[:, None] + 0 * fx  # y up
+    radius = np.hypot(fx, fy)
+    keep = (radius >= 2.5 / size) & (radius <= w_max) & ~((fx == 0) & (fy < 0))
+    centres = np.array([(c + (size - 1) / 2 - (w - 1) / 2, (h - 1) / 2 - r - (size - 1) / 2)
+                        for r, c in corners])
+    return Spectra(psd[:, keep], np.stack([fx[keep], fy[keep]]), centres, size, (h, w))
+
+
+class Criterion:
+    """Back-projects every window's spectrum by a plane hypothesis and scores the texture.
+
+    The bank is K = _ANGLES orientations over [0, pi) times half-octave scales, with triangular
+    (linear interpolation) profiles in log radius and angle, applied in the plane's frequency
+    frame: window i's sample at image frequency w lies at nu = J_i^-T w on the plane, where its
+    power times |det J_i| is the plane texture's power spectrum. A band's log energy L[i, s, k]
+    counts only where the window's samples cover the band (the photo resolves it there).
+    """
+
+    def __init__(self, spectra: Spectra):
+        self.s = spectra
+        lo, hi = _LOG_RANGE
+        self.scales = int(round((hi - lo) / _DLOG)) + 1
+        log_r = lo + _DLOG * np.arange(self.scales)
+        self.band_area = 4.0 ** log_r * math.log(2) * _DLOG * math.pi / _ANGLES
+        self.cells = self.scales * _ANGLES
+
+    def band_limited(self, w_max: float) -> Criterion:
+        """The same windows, image frequencies up to ``w_max`` only."""
+        s = self.s
+        keep = (s.w ** 2).sum(axis=0) <= w_max * w_max
+        return Criterion(Spectra(s.psd[:, keep], s.w[:, keep], s.centres, s.size, s.shape))
+
+    def bands(self, p: np.ndarray, v: np.ndarray):
+        """Log band energies L (N, S, K), their noise variances, which count, and g."""
+        s = self.s
+        jac, g = jacobians(s.centres, p, v)
+        g_safe = np.maximum(g, _G_MIN)
+        jac = jac * (g / g_safe)[:, None, None] ** 2
+        a, b, c, d = (jac[:, i, j, None] for i in (0, 1) for j in (0, 1))
+        signed = a * d - b * c
+        det = np.abs(signed[:, 0])
+        # nu = J^-T w, (N, M), in float32 (bin positions need no more; twice the speed)
+        wx, wy = s.w.astype(np.float32)
+        inv = [(x / signed).astype(np.float32) for x in (d, c, a, b)]
+        nu_x = inv[0] * wx - inv[1] * wy
+        nu_y = inv[2] * wy - inv[3] * wx
+        fr = (np.float32(0.5) * np.log2(nu_x * nu_x + nu_y * nu_y)
+              - np.float32(_LOG_RANGE[0])) / np.float32(_DLOG)
+        fr = np.clip(fr, 0.0, self.scales - 1.001)  # the end bins, never valid, take overflow
+        ft = (np.arctan2(nu_y, nu_x) % np.float32(math.pi)) / np.float32(math.pi / _ANGLES) \
+            - np.float32(0.5)
+        r0, t0 = np.floor(fr), np.floor(ft)
+        a, b = fr - r0, ft - t0
+        n = len(det) * self.cells
+        lo = ((np.arange(len(det)) * self.cells)[:, None] + r0.astype(np.int64) * _ANGLES)
+        t_lo = t0.astype(np.int64) % _ANGLES
+        t_hi = (t_lo + 1) % _ANGLES
+        psd = s.psd
+        wsum, w2sum, psum = np.zeros(n), np.zeros(n), np.zeros(n)
+        for idx, weight in ((lo + t_lo, (1 - a) * (1 - b)), (lo + t_hi, (1 - a) * b),
+                            (lo + _ANGLES + t_lo, a * (1 - b)), (lo + _ANGLES + t_hi, a * b)):
+            idx, weight = idx.ravel(), weight.ravel().astype(np.float64)
+            wsum += np.bincount(idx, weight, n)
+            w2sum += np.bincount(idx, weight * weight, n)
+            psum += np.bincount(idx, weight * psd.ravel(), n)
+        shape = (len(det), self.scales, _ANGLES)
+        wsum, w2sum, psum = (x.reshape(shape) for x in (wsum, w2sum, psum))
+        expected = s.size ** 2 * det[:, None, None] * self.band_area[None, :, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            valid = (wsum >= _COVER * expected) & (psum > 0)
+            valid[:, [0, -1]] = False  # the clipped end bins collect out-of-range samples
+            energy = np.log(np.where(valid, psum / wsum, 1.0)) + np.log(det)[:, None, None]
+            # Var(log mean of n exponential samples) ~ 1 / n_eff, n_eff = (sum w)^2 / sum w^2;
+            # Hann neighbours are correlated (1.5).
+            noise = np.where(valid, 1.5 * w2sum / (wsum * wsum), 0.0)
+        return energy, noise, valid, g
+
+    def homogeneity(self, p, v) -> tuple[float, float, int]:
+        """Variance of each band's log energy across windows: (noise-corrected, raw, dof)."""
+        energy, noise, valid, g = self.bands(p, v)
+        penalty = float(np.sum(np.maximum(0.0, _G_MIN - g)) * 100.0)
+        count = valid.sum(axis=0)
+        shared = valid & (count >= 2)[None]
+        dof = int(np.maximum(count - 1, 0)[count >= 2].sum())
+        if dof < 8:
+            return 10.0 + penalty, 10.0, 0
+        n = np.maximum(count, 1)
+        # Contrast varies across a photo (lighting, patchy textures): each window gets a log
+        # gain, ridge-shrunk halfway to zero (a prior as strong as the window's own bands).
+        gain = np.zeros((len(energy), 1, 1))
+        bands = 2.0 * shared.sum(axis=(1, 2), keepdims=True) + 1e-9
+        for _ in range(4):
+            mean = np.where(shared, energy - gain, 0).sum(axis=0) / n
+            gain = np.where(shared, energy - mean, 0).sum(axis=(1, 2), keepdims=True) / bands
+        residual = np.where(shared, energy - gain - mean, 0)
+        raw = float((residual ** 2).sum() / dof)
+        bias = float(np.where(shared, noise * (1 - 1 / n)[None], 0).sum() / dof)
+        return raw - bias + penalty, raw, dof
+
+    def isotropy(self, p, v) -> tuple[float, float, int]:
+        """Variance of log energy across orientations within a window and scale: (corrected,
+        raw, dof), as for :meth:`homogeneity`."""
+        energy, noise, valid, g = self.bands(p, v)
+        penalty = float(np.sum(np.maximum(0.0, _G_MIN - g)) * 100.0)
+        full = valid.all(axis=2)
+        dof = int(full.sum()) * (_ANGLES - 1)
+        if dof < 8:
+            return 10.0 + penalty, 10.0, 0
+        residual = np.where(full[..., None], energy - energy.mean(axis=2, keepdims=True), 0)
+        raw = float((residual ** 2).sum() / dof)
+        bias = float(np.where(full[..., None], noise, 0).sum() * (1 - 1 / _ANGLES) / dof)
+        return raw - bias + penalty, raw, dof
+
