@@ -86,7 +86,8 @@ def test_patchmatch_finds_the_exemplar_in_itself():
     rows = cols = np.arange(0, 48, 2)
     nnf = np.stack([rng.integers(0, 41, (24, 24)), rng.integers(0, 41, (24, 24))],
                    axis=2).astype(np.int32)
-    patchmatch(features, features.describe(ex, rows, cols), nnf, rows, cols, (48, 48), rng, 4)
+    target = features.describe(ex, *np.meshgrid(rows, cols, indexing="ij")).reshape(-1, 32)
+    patchmatch(features, target, nnf, rows, cols, (48, 48), rng, 4)
     inside = rows <= 40  # patches that do not wrap are found exactly
     assert (nnf[inside][:, inside, 0] == rows[inside, None]).mean() > 0.95
     assert (nnf[inside][:, inside, 1] == cols[None, inside]).mean() > 0.95

@@ -57,30 +57,37 @@ class PatchFeatures:
         cells = self._cell_means(exemplar, periodic=False)
         rows = rng.integers(0, self.shape[0], min(FIT_SAMPLES, self.shape[0] * self.shape[1]))
         cols = rng.integers(0, self.shape[1], len(rows))
-        sample = self._raw(cells, rows, cols)
+        sample = self._raw(cells, rows, cols).astype(np.float64)
         self.mean = sample.mean(axis=0)
-        _, _, vt = np.linalg.svd(sample - self.mean, full_matrices=False)
-        self.basis = np.ascontiguousarray(vt[:dims].T, dtype=np.float32)
+        centred = sample - self.mean
+        _, vectors = np.linalg.eigh(centred.T @ centred)
+        self.basis = np.ascontiguousarray(vectors[:, ::-1][:, :dims], dtype=np.float32)
+        self.mean = self.mean.astype(np.float32)
         out = np.empty(self.shape + (self.basis.shape[1],), np.float32)
-        cols = np.arange(self.shape[1])
+        g, q = self.cells, self.q
         for start in range(0, self.shape[0], BLOCK_ROWS):
-            block = np.arange(start, min(start + BLOCK_ROWS, self.shape[0]))
-            out[block] = self._project(cells, block[:, None], cols[None, :])
+            stop = min(start + BLOCK_ROWS, self.shape[0])
+            raw = np.concatenate([cells[start + a * q:stop + a * q, b * q:b * q + self.shape[1]]
+                                  for a in range(g) for b in range(g)], axis=-1)
+            raw -= self.mean
+            np.matmul(raw, self.basis, out=out[start:stop])
         self.exemplar = out
-        #: Mean squared descriptor distance of an exemplar patch from the mean patch.
         self.rows = Rows(out.reshape(-1, out.shape[2]))
 
     def _cell_means(self, image, periodic):
         """Means of q x q cells at every top-left pixel: (H, W, C) wrapping, else valid only."""
         q = self.q
         a = np.asarray(image, np.float32)
-        if periodic:
-            a = np.concatenate([a, a[:q - 1]], axis=0)
-            a = np.concatenate([a, a[:, :q - 1]], axis=1)
-        s = np.zeros((a.shape[0] + 1, a.shape[1] + 1, a.shape[2]), np.float64)
-        np.cumsum(np.cumsum(a, axis=0, dtype=np.float64), axis=1, out=s[1:, 1:])
-        box = s[q:, q:] - s[:-q, q:] - s[q:, :-q] + s[:-q, :-q]
-        return (box / (q * q)).astype(np.float32)
+        if q == 1:
+            return a
+        for axis in (0, 1):
+            n = a.shape[axis] if periodic else a.shape[axis] - q + 1
+            idx = np.arange(n)
+            total = np.take(a, idx, axis=axis, mode="wrap")
+            for u in range(1, q):
+                total = total + np.take(a, idx + u, axis=axis, mode="wrap")
+            a = total
+        return a / np.float32(q * q)
 
     def _raw(self, cells, rows, cols):
         """The CELLS^2 cell means of the patches at (rows, cols), (..., CELLS^2 C); indices wrap
@@ -95,10 +102,10 @@ class PatchFeatures:
         return (self._raw(cells, rows, cols) - self.mean) @ self.basis
 
     def describe(self, image: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-        """Descriptors of the patches of a periodic ``image`` at top-left (rows, cols):
-        ``rows`` (n,) and ``cols`` (m,) give an (n, m, d) grid."""
+        """Descriptors of the patches of a periodic ``image`` with top-left pixels
+        (rows, cols), arrays of one shape; (..., d)."""
         cells = self._cell_means(image, periodic=True)
-        return self._project(cells, rows[:, None], cols[None, :]).astype(np.float32)
+        return self._project(cells, rows, cols).astype(np.float32)
 
 
 def _cost(features, target, flat, penalty):
@@ -112,31 +119,35 @@ def _cost(features, target, flat, penalty):
 
 def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, rows: np.ndarray,
                cols: np.ndarray, period: tuple[int, int], rng: np.random.Generator,
-               iterations: int = 2, active: np.ndarray | None = None,
+               iterations: int = 2, active: tuple[np.ndarray, np.ndarray] | None = None,
                penalty: np.ndarray | None = None) -> np.ndarray:
     """Improve ``nnf`` (gh, gw, 2) int32, the exemplar top-left matched to each output grid
-    patch, in place; return each patch's cost (gh, gw).
+    patch, in place; return the cost of each active patch.
 
-    ``target`` (gh, gw, d) holds the descriptors of the output patches whose top-left pixels are
-    (``rows[i]``, ``cols[j]``) on an output of size ``period`` (H, W), which wraps: a grid
-    neighbour proposes its match moved by the two patches' offset, measured around the torus.
-    ``active`` (gh, gw) bool: only those patches change (the others still propose).
-    ``penalty`` (h - p + 1, w - p + 1): added to the distance of each exemplar patch.
+    The output grid patches have top-left pixels (``rows[i]``, ``cols[j]``) on an output of size
+    ``period`` (H, W), which wraps: a grid neighbour proposes its match moved by the two
+    patches' offset, measured around the torus. ``active`` = (gi, gj), the grid indices of the
+    patches to improve (default: all), whose descriptors ``target`` (n, d) holds; the others keep
+    their match and still propose it. ``penalty`` (h - p + 1, w - p + 1) is added to the
+    distance of each exemplar patch.
     """
     hs, ws = features.shape
     gh, gw = nnf.shape[:2]
-    flat = nnf[:, :, 0] * ws + nnf[:, :, 1]
-    cost = _cost(features, target, flat, penalty)
     if active is None:
-        active = np.ones((gh, gw), bool)
+        active = tuple(a.ravel() for a in np.mgrid[:gh, :gw])
+    gi, gj = active
+    grid = nnf[:, :, 0] * ws + nnf[:, :, 1]
+    flat = grid[gi, gj]
+    cost = _cost(features, target, flat, penalty)
 
     def consider(r, c):
         nonlocal flat, cost
         cand = np.clip(r, 0, hs - 1) * ws + np.clip(c, 0, ws - 1)
         d = _cost(features, target, cand, penalty)
-        better = (d < cost) & active
+        better = d < cost
         flat = np.where(better, cand, flat)
         cost = np.where(better, d, cost)
+        grid[gi, gj] = flat
 
     for _ in range(iterations):
         for k in JUMPS:
@@ -146,18 +157,19 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
                 for sign in (1, -1):
                     # The neighbour k grid steps before (sign 1) or after proposes its match
                     # moved by the signed torus distance between the two patches.
-                    other = (np.arange(n) - sign * k) % n
-                    shift = (pos - pos[other] + size // 2) % size - size // 2
-                    sr, sc = np.divmod(np.roll(flat, sign * k, axis=axis), ws)
+                    mine = gi if axis == 0 else gj
+                    other = (mine - sign * k) % n
+                    shift = (pos[mine] - pos[other] + size // 2) % size - size // 2
+                    sr, sc = np.divmod(grid[other, gj] if axis == 0 else grid[gi, other], ws)
                     if axis == 0:
-                        consider(sr + shift[:, None], sc)
+                        consider(sr + shift, sc)
                     else:
-                        consider(sr, sc + shift[None, :])
+                        consider(sr, sc + shift)
         radius = max(hs, ws)
         while radius >= 1:
             r, c = np.divmod(flat, ws)
             consider(r + rng.integers(-radius, radius + 1, r.shape),
                      c + rng.integers(-radius, radius + 1, c.shape))
             radius //= 2
-    nnf[:, :, 0], nnf[:, :, 1] = np.divmod(flat, ws)
+    nnf[:, :, 0], nnf[:, :, 1] = np.divmod(grid, ws)
     return cost

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
-from ..patchmatch import PatchFeatures, patchmatch
+from ..patchmatch import CELLS, DIMS, PatchFeatures, patchmatch
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count"]
@@ -63,11 +63,12 @@ def _downsample(image):
 
 
 def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, sizes=2,
-             iterations=3, uniformity=2.0, known=None):
+             iterations=3, uniformity=2.0, known=None, descriptor=(CELLS, DIMS)):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
 
-    ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and, for them,
-    the (row, col) of the exemplar pixel they show; kept pixels stay exactly that pixel.
+    ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and the
+    (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
+    that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
     """
     h, w, _ = exemplar.shape
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
@@ -89,11 +90,13 @@ def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, siz
             fixed = (mask[::2 ** lv, ::2 ** lv][:shape[0], :shape[1]],
                      np.minimum(where[::2 ** lv, ::2 ** lv] // 2 ** lv,
                                 np.array(z.shape[:2]) - 1)[:shape[0], :shape[1]])
-            if positions is not None:
+            if positions is None:
+                positions = fixed[1].copy()  # the free pixels start from the given positions
+            else:
                 positions[fixed[0]] = fixed[1][fixed[0]]
         positions = _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
-                                   f"level {lv}, patch {p}")
+                                   f"level {lv}, patch {p}", descriptor)
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
@@ -149,17 +152,18 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image):
     c = z.shape[2]
     flat_z = z.reshape(-1, c)
     sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
-    wgt = weights[grid.index][:, None]
+    wgt = weights[:, None]
     total = np.zeros((hh * ww, c), np.float32)
     norm = np.zeros(hh * ww, np.float32)
     for u, v, target in grid.offsets():
         total[target] += wgt * flat_z[(sr + u) * z.shape[1] + sc + v]
         norm[target] += wgt[:, 0]
-    image = total / np.maximum(norm, 1e-12)[:, None]
-    image = image.reshape(hh, ww, c)
-    if unknown is not None:
-        image = np.where(unknown[:, :, None], image, fixed_image)
-    return image
+    if unknown is None:
+        return (total / norm[:, None]).reshape(hh, ww, c)
+    image = fixed_image.reshape(-1, c).copy()
+    free = unknown.ravel()
+    image[free] = total[free] / norm[free, None]
+    return image.reshape(hh, ww, c)
 
 
 def _winners(z, nnf, grid, average, positions, unknown):
@@ -198,13 +202,14 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
     uses = np.bincount(flat, minlength=hs * ws).reshape(hs, ws).astype(np.float32)
     near = uniform_filter(uses, size=step, mode="constant") * step * step
     uniform = max(1.0, len(flat) * step * step / (hs * ws))
-    scale = uniformity * float(np.median(cost[grid.index]))
+    scale = uniformity * float(np.median(cost))
     return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
 
 
-def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label):
+def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
+                   descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
-    features = PatchFeatures(z, p, rng)
+    features = PatchFeatures(z, p, rng, *descriptor)
     hs, ws = features.shape
     unknown = None if fixed is None else ~fixed[0]
     grid = _Grid(shape, p, unknown)
@@ -225,14 +230,14 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
     penalty = None
     for it in range(iterations):
         progress(it / iterations, label)
-        target = features.describe(image, grid.rows, grid.cols)
+        target = features.describe(image, grid.top, grid.left)
         cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
-                          MATCH_ITERATIONS, grid.active, penalty)
+                          MATCH_ITERATIONS, grid.index, penalty)
         if penalty is not None:
-            cost = cost - penalty[nnf[:, :, 0], nnf[:, :, 1]]
+            cost = cost - penalty[nnf[grid.index][:, 0], nnf[grid.index][:, 1]]
         if uniformity > 0:
             penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
-        eps = 1e-3 * float(np.mean(cost[grid.index])) + 1e-12
+        eps = 1e-3 * float(np.mean(cost)) + 1e-12
         weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
         image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image)
     return _winners(z, nnf, grid, image, positions, unknown)
