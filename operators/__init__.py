@@ -4,9 +4,9 @@ Each module keeps a ``classes`` tuple and its own ``register``/``unregister``; t
 delegates, in order (settings before the operator and panel that read them).
 """
 
-from . import composite, estimate, material, panel, positions, properties, synthesize
+from . import composite, estimate, material, panel, positions, properties, synthesize, tileable
 
-_modules = (properties, synthesize, panel, positions, material, composite, estimate)
+_modules = (properties, synthesize, panel, positions, material, composite, estimate, tileable)
 
 
 def register():

@@ -29,6 +29,7 @@ class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
             layout.label(text=str(error), icon="INFO")
         properties.draw_settings(layout, context.scene.texsynth)
         layout.operator("texsynth.synthesize", icon="TEXTURE")
+        layout.operator("texsynth.make_tileable", icon="MOD_ARRAY")
 
 
 classes = (TEXSYNTH_PT_synthesize,)

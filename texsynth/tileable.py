@@ -26,8 +26,8 @@ __all__ = ["make_tileable", "make_tileable_positions", "default_band"]
 
 #: Patch descriptor (cells, dims): coarser than the method's default, for seconds at 1024^2.
 DESCRIPTOR = (4, 16)
-#: The photo's edge margin left out of the sources: band width / MARGIN (at least 2 pixels).
-MARGIN = 16
+#: The photo's edge margin left out of the sources: band width / MARGIN, at least half a patch.
+MARGIN = 8
 #: Largest share of the photo a band may change (the issue asks at least half unchanged).
 MAX_CHANGED = 0.5
 
@@ -114,7 +114,7 @@ def make_tileable_positions(photo, band: int | None = None, seed: int = 0,
     # (with the edge as a source, the photo's continuation meets its other side exactly on the
     # wrap line, the seam we hide). The band starts as the rolled photo, except within m of the
     # seam (the margin), which starts from random photo pixels.
-    m = max(2, band // MARGIN)
+    m = max(values["patch_size"] // 2, band // MARGIN)
     source = a[m:h - m, m:w - m]
     start = where - m
     near = ((i >= sh - m) & (i < sh + m)) | ((j >= sw - m) & (j < sw + m))
