@@ -9,7 +9,8 @@ Read in this order:
 * the operators, one module per feature: ``synthesize.py`` (``texsynth.synthesize``),
   ``material.py`` (``texsynth.synthesize_material``: the maps of a material together),
   ``composite.py`` (``texsynth.segment``, ``texsynth.synthesize_composite``), ``estimate.py``
-  (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``);
+  (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``),
+  ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile);
 * ``panels.py``: every panel;
 * helpers: ``source.py`` (which image and node), ``pixels.py`` (Blender pixels to arrays and
   back), ``output.py`` (the new image datablock or file), ``nodes.py`` (the new node).
@@ -19,9 +20,9 @@ Each module with Blender classes keeps a ``classes`` tuple and its own ``registe
 the settings before the operators, the operators before the panels that show them.
 """
 
-from . import composite, estimate, material, panels, properties, synthesize
+from . import composite, estimate, material, panels, properties, synthesize, tileable
 
-_modules = (properties, synthesize, material, composite, estimate, panels)
+_modules = (properties, synthesize, material, tileable, composite, estimate, panels)
 
 
 def register():

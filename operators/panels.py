@@ -54,6 +54,7 @@ class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
             layout.label(text=found.image, icon="IMAGE_DATA")
         properties.draw_settings(layout, context.scene.texsynth)
         layout.operator("texsynth.synthesize", icon="TEXTURE")
+        layout.operator("texsynth.make_tileable", icon="MOD_ARRAY")
 
 
 class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):

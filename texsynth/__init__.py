@@ -6,6 +6,7 @@ the module that says what it is (see docs/ARCHITECTURE.md)::
     texsynth.synthesize(exemplar, width, height, method="heeger_bergen", seed=0,
                         progress=None, **params) -> float32 (height, width, C)
     texsynth.methods() -> tuple of Method records (name, label, description, params)
+    texsynth.make_tileable(photo, band=None, seed=0) -> float32, the photo's size, made to tile
 
 Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 """
@@ -22,6 +23,7 @@ from .positions import apply_positions, positions_image
 from .progress import Cancelled, Progress
 from .registry import Method, Param, get_method, methods
 from .stack import synthesize_stack
+from .tileable import make_tileable, make_tileable_positions
 from .validation import MAX_SIDE, memory_budget
 
 __all__ = [
@@ -31,6 +33,8 @@ __all__ = [
     "positions_image",
     "synthesize_stack",
     "algorithms",
+    "make_tileable",
+    "make_tileable_positions",
     "cooccurrence",
     "composite",
     "segmentation",

@@ -14,4 +14,5 @@ from . import efros_leung  # noqa: F401
 from . import multiscale_mrf  # noqa: F401
 from . import de_bonet  # noqa: F401
 from . import cooccurrence  # noqa: F401
+from . import texture_optimization  # noqa: F401
 from . import composite  # noqa: F401  (last: its fill choices list the methods before it)

@@ -1,0 +1,97 @@
+"""``texsynth.make_tileable``: the active Image Texture node's photo made to tile, as a new image.
+
+The photo keeps its size and its pixels except in a band across its edges, re-synthesized from
+the photo's own patches (``texsynth.make_tileable``). With ``all_maps`` the images of the other
+*selected* Image Texture nodes of the material (normal, roughness, height maps of the same size)
+follow the same pixel positions, so every map of the material tiles the same way. Each result is
+a new image and a new node beside its source node, taking over that node's links, as
+``texsynth.synthesize`` does; the user's images are never changed. Everything is checked and
+computed before anything is made: on error or cancel the file is unchanged.
+"""
+
+import bpy
+
+from .. import texsynth
+from . import nodes, output, pixels, properties, source
+from .job import Job, JobOperator
+
+#: The name given to the results: ``<image>_tileable_<seed>``.
+SUFFIX = "tileable"
+
+
+class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
+    """Make the active Image Texture node's photo tile: keep its pixels, re-synthesize only a
+    band across its edges from the photo itself, into a new image and node"""
+
+    bl_idname = "texsynth.make_tileable"
+    bl_label = "Make Tileable"
+    bl_options = {"REGISTER", "UNDO"}
+
+    band: bpy.props.IntProperty(
+        name="Band", default=0, min=0, soft_max=512, subtype="PIXEL", options={"SKIP_SAVE"},
+        description="Width in pixels of the band re-synthesized across the photo's edges; "
+                    "0: automatic (an eighth of the shorter side). At most half of the photo "
+                    "may change")
+    all_maps: bpy.props.BoolProperty(
+        name="Other Selected Maps Too", default=False, options={"SKIP_SAVE"},
+        description="Make the images of the other selected Image Texture nodes (normal, "
+                    "roughness, height... of the same size) tile with the same pixel positions")
+    seed: bpy.props.IntProperty(name="Seed", min=0, default=0, options={"SKIP_SAVE"},
+                                description="Same photo, band and seed give the same result")
+    output: bpy.props.EnumProperty(name="Output", items=properties.OUTPUT_ITEMS, default="PACK",
+                                   options={"SKIP_SAVE"})
+    output_dir: bpy.props.StringProperty(name="Output Directory", subtype="DIR_PATH",
+                                         default="//", options={"SKIP_SAVE"})
+
+    def draw(self, context):
+        for name in ("band", "all_maps", "seed", "output"):
+            self.layout.prop(self, name)
+        if self.output != "PACK":
+            self.layout.prop(self, "output_dir")
+
+    def prepare(self, context):
+        """Check everything and copy every map out of Blender; raises ``ValueError``."""
+        settings = context.scene.texsynth
+        for name in ("seed", "output", "output_dir"):  # unset: the panel's settings
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        src = source.find_source(context)
+        followers = source.follower_nodes(context, src) if self.all_maps else []
+        maps = []
+        for node_name, image in [(src.node, bpy.data.images[src.image])] + [
+                (n.name, n.image) for n in followers]:
+            values, encoding = pixels.read_exemplar(image)
+            if maps and values.shape[:2] != maps[0][1].shape[:2]:
+                h, w = maps[0][1].shape[:2]
+                raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
+                                 f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
+                                 f"'{src.image}': the maps of a material must have one size")
+            maps.append((node_name, values, encoding, self.target(image.name, SUFFIX)))
+        job = Job(texsynth.make_tileable_positions, maps[0][1], band=self.band or None,
+                  seed=self.seed)
+        return job, (src, maps)
+
+    def make(self, result, plan):
+        src, maps = plan
+        image, positions = result
+        values = [image] + [texsynth.apply_positions(positions, m[1]) for m in maps[1:]]
+        made = [output.create_image(v, encoding, target)
+                for (_, _, encoding, target), v in zip(maps, values, strict=True)]
+        tree, _ = source.source_node(src)
+        first = None
+        for (name, *_), new_image in zip(maps, made, strict=True):
+            node = tree.nodes.get(name) if tree else None
+            if node is not None:
+                first = first or nodes.add_result_node(tree, node, new_image)
+        if first is not None:
+            for node in tree.nodes:
+                node.select = False
+            first.select = True
+            tree.nodes.active = first
+        w, h = made[0].size
+        return (f"Made {len(made)} image(s) tileable ({w} x {h}): "
+                + ", ".join(f"'{m.name}'" for m in made))
+
+
+classes = (TEXSYNTH_OT_make_tileable,)
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -1,0 +1,76 @@
+"""bpy.ops.texsynth.make_tileable: the photo made to tile into a new image and node, the user's
+image untouched, the other selected maps following the same positions on request."""
+
+import bpy
+import numpy as np
+import pytest
+from scenes import fingerprint, generated_image, material_with, pixels_of
+
+from texsynth.metrics import seam_ratio
+
+
+def photo(seed=0, h=64, w=80):
+    """A crop of smooth noise: a photo-like texture whose opposite edges do not match."""
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(seed)
+    big = gaussian_filter(rng.standard_normal((h + 40, w + 40, 3)), (2.5, 2.5, 0), mode="wrap")
+    crop = big[17:17 + h, 23:23 + w]
+    return ((crop - crop.min()) / np.ptp(crop) * 0.8 + 0.1).astype(np.float32)
+
+
+def test_the_photo_becomes_a_new_tileable_image_and_node(addon):
+    colour = photo()
+    tree = material_with(generated_image(colour, name="wall"))
+    user_pixels = pixels_of(bpy.data.images["wall"]).copy()
+    images_before = set(bpy.data.images)
+
+    assert bpy.ops.texsynth.make_tileable() == {"FINISHED"}
+
+    (made,) = set(bpy.data.images) - images_before
+    assert made.name == "wall_tileable_0" and tuple(made.size) == (80, 64)
+    assert np.array_equal(pixels_of(bpy.data.images["wall"]), user_pixels)  # untouched
+    result = pixels_of(made)[:, :, :3]
+    assert seam_ratio(user_pixels[:, :, :3]) > 2 and seam_ratio(result) < 1.3
+    # Most pixels are the photo's own (8-bit storage: within a byte step).
+    kept = (np.abs(result - user_pixels[:, :, :3]) < 1.5 / 255).all(axis=2)
+    assert kept.mean() >= 0.5 and kept[16:48, 20:60].all()
+    node = tree.nodes.active
+    assert node.image == made and node.extension == "REPEAT"
+    assert node.outputs["Color"].links[0].to_socket.name == "Base Color"
+
+
+def test_selected_maps_follow_with_the_same_positions(addon):
+    colour = photo(1)
+    tree = material_with(generated_image(colour, name="colour"))
+    # A roughness map whose every pixel is unique: where each output pixel came from is
+    # readable from its value.
+    ids = ((np.arange(64 * 80, dtype=np.float32) + 1) / (64 * 80 + 1)).reshape(64, 80, 1)
+    rough = tree.nodes.new("ShaderNodeTexImage")
+    rough.name = "rough node"
+    rough.image = generated_image(ids, name="rough", float_buffer=True, colorspace="Non-Color")
+    rough.select = True
+    tree.nodes["source node"].select = True
+    images_before = set(bpy.data.images)
+
+    assert bpy.ops.texsynth.make_tileable(all_maps=True, seed=2) == {"FINISHED"}
+
+    made = {i.name: i for i in set(bpy.data.images) - images_before}
+    assert set(made) == {"colour_tileable_2", "rough_tileable_2"}
+    index = np.rint(pixels_of(made["rough_tileable_2"])[:, :, 0] * (64 * 80 + 1) - 1).astype(int)
+    expected = pixels_of(bpy.data.images["colour"])[:, :, :3].reshape(-1, 3)[index]
+    assert np.abs(pixels_of(made["colour_tileable_2"])[:, :, :3] - expected).max() < 1.5 / 255
+    assert (index != np.arange(64 * 80).reshape(64, 80)).any()  # the band did change
+
+
+def test_errors_change_nothing(addon):
+    tree = material_with(generated_image(photo(), name="wall"))
+    before = fingerprint()
+    with pytest.raises(RuntimeError, match="more than half"):
+        bpy.ops.texsynth.make_tileable(band=60)
+    assert fingerprint() == before
+    tree.nodes.active = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    before = fingerprint()
+    with pytest.raises(RuntimeError, match="not an Image Texture node"):
+        bpy.ops.texsynth.make_tileable()
+    assert fingerprint() == before

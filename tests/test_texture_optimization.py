@@ -1,0 +1,105 @@
+"""Texture optimisation (Kwatra et al. 2005) with PatchMatch and uniform patch usage: it tiles,
+keeps long structures, returns its position map, and says what to change on bad input."""
+
+import numpy as np
+import pytest
+
+import texsynth
+from texsynth.blocks.patchmatch import PatchFeatures, patchmatch
+from texsynth.metrics import patch_distance, seam_ratio, structure_distance
+
+from _images import ramp_photo, smooth_noise
+
+
+def bricks(shape=(64, 64), seed=0):
+    """Rows of bricks 8 px tall and 16 px long, joints offset every other row, dark mortar,
+    noisy faces: long straight lines a pixel sampler breaks."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    img = 0.6 + 0.08 * smooth_noise(shape, seed, sigma=1.0, channels=3)
+    img *= np.array([1.0, 0.75, 0.6], np.float32)
+    i, j = np.mgrid[:h, :w]
+    mortar = (i % 8 == 0) | ((j + 8 * ((i // 8) % 2)) % 16 == 0)
+    img[mortar] = 0.15 + 0.03 * rng.random((mortar.sum(), 1))
+    return img.astype(np.float32)
+
+
+def test_output_tiles_and_is_made_of_exemplar_pixels():
+    photo = ramp_photo((48, 56), seed=2)
+    assert seam_ratio(photo) > 3
+    out, positions = texsynth.synthesize_positions(photo, 72, 64, method="texture_optimization",
+                                                   seed=1, levels=2)
+    assert out.shape == (64, 72, 3) and out.dtype == np.float32
+    assert seam_ratio(out) < 1.3
+    assert seam_ratio(np.roll(out, (23, 31), axis=(0, 1))) < 1.3
+    assert np.array_equal(texsynth.apply_positions(positions, photo), out)
+
+
+def test_long_structures_survive_where_pixel_samplers_break_them():
+    ex = bricks()
+    out = texsynth.synthesize(ex, 96, 96, method="texture_optimization", seed=0)
+    mrf = texsynth.synthesize(ex, 96, 96, method="multiscale_mrf", seed=0)
+    hb = texsynth.synthesize(ex, 96, 96, method="heeger_bergen", seed=0, iterations=5)
+    assert structure_distance(ex, out) < 0.6 * structure_distance(ex, mrf)
+    assert structure_distance(ex, out) < 0.3 * structure_distance(ex, hb)
+    assert patch_distance(ex, out, samples=300)["median"] < 0.05
+
+    def mortar_rows(image):
+        """Rows more than half mortar: the horizontal lines that carry on (12 in 96 rows)."""
+        return int(((image.mean(axis=2) < 0.3).mean(axis=1) > 0.5).sum())
+
+    assert mortar_rows(out) >= 8 > mortar_rows(mrf)
+
+
+def test_same_seed_same_output_other_seed_other_output():
+    ex = smooth_noise((40, 40), seed=4, sigma=1.5)
+    a = texsynth.synthesize(ex, 48, 40, method="texture_optimization", seed=7, levels=2)
+    b = texsynth.synthesize(ex, 48, 40, method="texture_optimization", seed=7, levels=2)
+    c = texsynth.synthesize(ex, 48, 40, method="texture_optimization", seed=8, levels=2)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+
+
+def test_uniform_usage_term_spreads_the_copies_over_the_exemplar():
+    ex = smooth_noise((48, 48), seed=1, sigma=1.5)
+
+    def used(uniformity):
+        _, pos = texsynth.synthesize_positions(ex, 96, 96, method="texture_optimization",
+                                               seed=2, uniformity=uniformity)
+        counts = np.bincount((pos[:, :, 0] * 48 + pos[:, :, 1]).ravel(), minlength=48 * 48)
+        return (counts > 0).mean()
+
+    assert used(4.0) > used(0.0) + 0.05
+
+
+def test_whole_material_follows_the_positions():
+    colour = bricks((48, 48), seed=3)
+    height_map = colour.mean(axis=2)
+    views = texsynth.synthesize_stack([colour, height_map], 64, 64, method="texture_optimization",
+                                      mode="column", seed=0, levels=2)
+    assert np.allclose(views[0].mean(axis=2), views[1].reshape(64, 64), atol=1e-6)
+
+
+def test_patchmatch_finds_the_exemplar_in_itself():
+    ex = smooth_noise((48, 48), seed=5, sigma=1.0)
+    rng = np.random.default_rng(0)
+    features = PatchFeatures(ex, 8, rng)
+    rows = cols = np.arange(0, 48, 2)
+    nnf = np.stack([rng.integers(0, 41, (24, 24)), rng.integers(0, 41, (24, 24))],
+                   axis=2).astype(np.int32)
+    target = features.describe(ex, *np.meshgrid(rows, cols, indexing="ij")).reshape(-1, 32)
+    patchmatch(features, target, nnf, rows, cols, (48, 48), rng, 4)
+    inside = rows <= 40  # patches that do not wrap are found exactly
+    assert (nnf[inside][:, inside, 0] == rows[inside, None]).mean() > 0.95
+    assert (nnf[inside][:, inside, 1] == cols[None, inside]).mean() > 0.95
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"patch_size": 16}, "smaller than the patch"),
+    ({"patch_size": 4, "width": 3}, "output"),
+    ({"uniformity": -1.0}, "uniformity"),
+])
+def test_bad_input_says_what_to_change(kwargs, message):
+    ex = smooth_noise((12, 12), seed=0)
+    width = kwargs.pop("width", 32)
+    with pytest.raises(ValueError, match=message):
+        texsynth.synthesize(ex, width, 32, method="texture_optimization", **kwargs)

@@ -1,0 +1,294 @@
+"""Texture optimisation with PatchMatch and uniform patch usage, periodic.
+
+Kwatra, Essa, Bobick & Kwatra 2005, "Texture optimization for example-based synthesis":
+the output X minimises the texture energy E_t(x; {z_p}) = sum_p ||x_p - z_p||^r over output
+neighbourhoods x_p on a grid of spacing w/4 (sec. 3), each z_p its nearest exemplar
+neighbourhood. Alternating (sec. 3.1):
+
+    M-step: z_p = the exemplar patch nearest x_p (here PatchMatch, Barnes et al. 2009, on the
+            torus: ``texsynth.blocks.patchmatch``);
+    E-step: x = the weighted average of the overlapping z_p, weights w_p = ||x_p - z_p||^(r - 2),
+            r = 0.8 (IRLS for the robust energy, sec. 3.1);
+
+coarse to fine over resolution levels, and at each level over patch sizes from large to small
+(sec. 3.2: 32, 16, 8). Kaspar, Neubert, Lischinski, Pauly & Kopf 2015, "Self tuning texture
+optimization", sec. 4.2: a term that keeps the patch usage uniform, so the output does not repeat
+a few favourite patches; here each exemplar patch's distance gets
+``lambda * median(d) * max(0, n(z) / n_bar - 1)``, n(z) the uses of the exemplar patches around z
+and n_bar the uniform usage (at least 1).
+
+Deviations, one line each:
+- the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
+- usage counts are refreshed once per EM iteration, not per PatchMatch step;
+- the output of each level and patch size is made of exemplar pixels: each pixel takes, among
+  the patch pixels voted onto it, the one nearest the weighted average, which keeps the result
+  crisp and gives the position map (so every map of a material can follow);
+- output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it.
+
+``optimize`` also takes fixed pixels (``known``), kept exact: ``texsynth.make_tileable`` uses it
+to re-synthesize only a band of a photo.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.ndimage import uniform_filter
+
+from ..blocks.patchmatch import CELLS, DIMS, PatchFeatures, patchmatch
+from ..registry import Method, Param, register
+
+__all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
+
+#: Kwatra et al.'s robust exponent r.
+R = 0.8
+#: PatchMatch iterations per EM iteration.
+MATCH_ITERATIONS = 2
+
+
+def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
+    """``levels`` capped so the coarsest exemplar holds two smallest patches and the coarsest
+    output one."""
+    n = 1
+    while (n < levels and min(exemplar_shape[:2]) >> n >= 2 * patch_size
+           and min(width, height) >> n >= patch_size):
+        n += 1
+    return n
+
+
+def _downsample(image):
+    """2 x 2 block means (an odd last row or column dropped)."""
+    h, w = image.shape[0] // 2 * 2, image.shape[1] // 2 * 2
+    a = image[:h, :w]
+    return 0.25 * (a[0::2, 0::2] + a[1::2, 0::2] + a[0::2, 1::2] + a[1::2, 1::2])
+
+
+def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, sizes=2,
+             iterations=3, uniformity=2.0, known=None, descriptor=(CELLS, DIMS)):
+    """Texture optimisation of a (height, width) periodic output; returns (image, positions).
+
+    ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and the
+    (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
+    that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
+    """
+    h, w, _ = exemplar.shape
+    n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
+    pyramid = [exemplar]
+    for _ in range(n_levels - 1):
+        pyramid.append(_downsample(pyramid[-1]))
+    steps = [(lv, p) for lv in reversed(range(n_levels))
+             for p in (patch_size << k for k in reversed(range(sizes)))
+             if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
+    positions = None
+    for i, (lv, p) in enumerate(steps):
+        z = pyramid[lv]
+        shape = (-(-height // 2 ** lv), -(-width // 2 ** lv))
+        if positions is not None and positions.shape[:2] != shape:
+            positions = _upsample(positions, shape, z.shape)
+        fixed = None
+        if known is not None:
+            mask, where = known
+            fixed = (mask[::2 ** lv, ::2 ** lv][:shape[0], :shape[1]],
+                     np.minimum(where[::2 ** lv, ::2 ** lv] // 2 ** lv,
+                                np.array(z.shape[:2]) - 1)[:shape[0], :shape[1]])
+            if positions is None:
+                positions = fixed[1].copy()  # the free pixels start from the given positions
+            else:
+                positions[fixed[0]] = fixed[1][fixed[0]]
+        positions = _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity,
+                                   progress.span(i / len(steps), (i + 1) / len(steps)),
+                                   f"level {lv}, patch {p}", descriptor)
+    return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
+
+
+def _upsample(positions, shape, exemplar_shape):
+    """Positions of a level twice as fine: each pixel's child keeps its offset in the block."""
+    i = np.arange(shape[0])[:, None]
+    j = np.arange(shape[1])[None, :]
+    coarse = positions[i // 2, j // 2]
+    out = np.empty(shape + (2,), np.int32)
+    out[:, :, 0] = np.minimum(2 * coarse[:, :, 0] + i % 2, exemplar_shape[0] - 1)
+    out[:, :, 1] = np.minimum(2 * coarse[:, :, 1] + j % 2, exemplar_shape[1] - 1)
+    return out
+
+
+def _touching(unknown, p, rows, cols):
+    """Grid patches (top-left rows x cols, size p, wrapping) that hold an unknown pixel."""
+    any_rows = np.zeros_like(unknown)
+    for u in range(p):
+        any_rows |= np.roll(unknown, -u, axis=0)
+    any_both = np.zeros_like(unknown)
+    for v in range(p):
+        any_both |= np.roll(any_rows, -v, axis=1)
+    return any_both[np.ix_(rows, cols)]
+
+
+class _Grid:
+    """Kwatra's output neighbourhoods: p x p patches with top-left corners every p/4 pixels,
+    wrapping around the (H, W) output; the active ones are those that hold a free pixel."""
+
+    def __init__(self, shape, p, unknown):
+        self.shape, self.p = shape, p
+        step = max(1, p // 4)
+        self.rows = np.arange(0, shape[0], step)
+        self.cols = np.arange(0, shape[1], step)
+        self.active = (np.ones((len(self.rows), len(self.cols)), bool) if unknown is None
+                       else _touching(unknown, p, self.rows, self.cols))
+        gi, gj = np.nonzero(self.active)
+        self.top, self.left = self.rows[gi], self.cols[gj]
+        self.index = (gi, gj)
+
+    def offsets(self):
+        """Per patch pixel (u, v): the output pixels (flat) of the active patches."""
+        hh, ww = self.shape
+        for u in range(self.p):
+            r = ((self.top + u) % hh) * ww
+            for v in range(self.p):
+                yield u, v, r + (self.left + v) % ww
+
+
+def _vote(z, nnf, weights, grid, unknown, fixed_image):
+    """E-step: the weighted average of the overlapping exemplar patches on every free pixel."""
+    hh, ww = grid.shape
+    c = z.shape[2]
+    flat_z = z.reshape(-1, c)
+    sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
+    wgt = weights[:, None]
+    total = np.zeros((hh * ww, c), np.float32)
+    norm = np.zeros(hh * ww, np.float32)
+    for u, v, target in grid.offsets():
+        total[target] += wgt * flat_z[(sr + u) * z.shape[1] + sc + v]
+        norm[target] += wgt[:, 0]
+    if unknown is None:
+        return (total / norm[:, None]).reshape(hh, ww, c)
+    image = fixed_image.reshape(-1, c).copy()
+    free = unknown.ravel()
+    image[free] = total[free] / norm[free, None]
+    return image.reshape(hh, ww, c)
+
+
+def _winners(z, nnf, grid, average, positions, unknown):
+    """Each free pixel's exemplar pixel: among the patch pixels voted onto it, the one nearest
+    the weighted average."""
+    hh, ww = grid.shape
+    c = z.shape[2]
+    flat_z = z.reshape(-1, c)
+    flat_avg = average.reshape(-1, c)
+    sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
+    best = np.full(hh * ww, np.inf, np.float32)
+    source = np.zeros(hh * ww, np.int64)
+    for u, v, target in grid.offsets():
+        s = (sr + u) * z.shape[1] + sc + v
+        diff = flat_z[s] - flat_avg[target]
+        d = np.einsum("ij,ij->i", diff, diff)
+        better = d < best[target]
+        best[target[better]] = d[better]
+        source[target[better]] = s[better]
+    covered = np.isfinite(best).reshape(hh, ww)
+    if unknown is not None:
+        covered &= unknown
+    out = positions.copy()
+    r, col = np.divmod(source.reshape(hh, ww), z.shape[1])
+    out[:, :, 0] = np.where(covered, r, out[:, :, 0])
+    out[:, :, 1] = np.where(covered, col, out[:, :, 1])
+    return out
+
+
+def _usage_penalty(nnf, grid, features, cost, uniformity):
+    """Kaspar et al.'s occurrence term: uses of the exemplar patches near each patch z (a box of
+    the grid step), over the uniform usage, beyond 1, times lambda and the median distance."""
+    hs, ws = features.shape
+    step = max(1, grid.p // 4)
+    flat = nnf[grid.index][:, 0] * ws + nnf[grid.index][:, 1]
+    uses = np.bincount(flat, minlength=hs * ws).reshape(hs, ws).astype(np.float32)
+    near = uniform_filter(uses, size=step, mode="constant") * step * step
+    uniform = max(1.0, len(flat) * step * step / (hs * ws))
+    scale = uniformity * float(np.median(cost))
+    return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
+
+
+def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
+                   descriptor):
+    """Kwatra's EM iterations at one level and patch size; returns the new positions."""
+    features = PatchFeatures(z, p, rng, *descriptor)
+    hs, ws = features.shape
+    unknown = None if fixed is None else ~fixed[0]
+    grid = _Grid(shape, p, unknown)
+    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
+    if positions is None:  # Kwatra's start: random exemplar patches, side by side
+        i = np.arange(shape[0])[:, None]
+        j = np.arange(shape[1])[None, :]
+        corner_r = rng.integers(0, hs, (-(-shape[0] // p), -(-shape[1] // p)))
+        corner_c = rng.integers(0, ws, corner_r.shape)
+        positions = np.stack([corner_r[i // p, j // p] + i % p, corner_c[i // p, j // p] + j % p],
+                             axis=2).astype(np.int32)
+        if fixed is not None:
+            positions[fixed[0]] = fixed[1][fixed[0]]
+    nnf = positions[np.ix_(grid.rows, grid.cols)].copy()
+    nnf[:, :, 0] = np.minimum(nnf[:, :, 0], hs - 1)
+    nnf[:, :, 1] = np.minimum(nnf[:, :, 1], ws - 1)
+    image = z[positions[:, :, 0], positions[:, :, 1]]
+    penalty = None
+    for it in range(iterations):
+        progress(it / iterations, label)
+        target = features.describe(image, grid.top, grid.left)
+        cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
+                          MATCH_ITERATIONS, grid.index, penalty)
+        if penalty is not None:
+            cost = cost - penalty[nnf[grid.index][:, 0], nnf[grid.index][:, 1]]
+        if uniformity > 0:
+            penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
+        eps = 1e-3 * float(np.mean(cost)) + 1e-12
+        weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
+        image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image)
+    return _winners(z, nnf, grid, image, positions, unknown)
+
+
+def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch_size=8,
+                         sizes=2, iterations=3, uniformity=2.0):
+    """Synthesize (height, width, C) and its position map; see the module notes."""
+    if min(exemplar.shape[:2]) < patch_size:
+        raise ValueError(f"the exemplar ({exemplar.shape[1]} x {exemplar.shape[0]}) is smaller "
+                         f"than the patch ({patch_size} x {patch_size}); use a smaller patch size "
+                         "or a larger exemplar")
+    if min(width, height) < patch_size:
+        raise ValueError(f"the output ({width} x {height}) is smaller than the patch "
+                         f"({patch_size} x {patch_size}); use a smaller patch size")
+    return optimize(exemplar, height, width, rng, progress, levels, patch_size, sizes,
+                    iterations, uniformity)
+
+
+def _memory(shape, width, height, params):
+    """The exemplar's patch descriptors (16 floats a position) and pyramid, per output pixel the
+    positions, image, vote sums, winners (about 14 + 6 C floats), and the grid's descriptors and
+    match (a pixel in 4: 16 + 6 floats). Building the descriptors gathers every exemplar patch
+    whole (p^2 C values a position, a few copies: tracemalloc measures about 12 p^2 C bytes), and
+    the votes and usage counts add about 100 + 32 C bytes an output pixel; tests/test_contract.py
+    holds the estimate above the measured peak."""
+    c = shape[2]
+    per_exemplar = 4 * (16 + 2 * c) + 13 * params["patch_size"] ** 2 * c
+    per_output = 4 * (14 + 6 * c) + 4 * 22 / 4 * 4 + 96 + 32 * c
+    return per_exemplar * shape[0] * shape[1] + per_output * width * height
+
+
+METHOD = register(Method(
+    name="texture_optimization",
+    label="Texture Optimization",
+    description="Optimise the output so every patch is near an exemplar patch (Kwatra et al. "
+                "2005), nearest patches by PatchMatch, patch usage kept uniform (Kaspar et al. "
+                "2015): keeps long structures such as cracks, mortar lines and weaves",
+    function=texture_optimization,
+    params=(
+        Param("levels", int, 3, "Resolution levels, coarse to fine (capped by the exemplar and "
+              "output sizes)", 1, 6),
+        Param("patch_size", int, 8, "Smallest patch side (pixels); each level also runs the "
+              "larger sizes first", 4, 64),
+        Param("sizes", int, 2, "Patch sizes per level, each twice the next, large to small", 1,
+              4),
+        Param("iterations", int, 3, "EM iterations per level and patch size", 1, 20),
+        Param("uniformity", float, 2.0, "Weight lambda of the uniform patch usage term (0: off): "
+              "higher repeats fewer favourite patches", 0.0, 10.0),
+    ),
+    min_exemplar=8,
+    memory=_memory,
+    positions=True,
+))
