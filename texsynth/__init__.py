@@ -13,7 +13,7 @@ Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 from __future__ import annotations
 
 # ruff: noqa: I001  (algorithms first: importing it registers every method, in panel order)
-from . import algorithms
+from . import algorithms, budget, validation
 from .algorithms import composite, cooccurrence
 from .algorithms.composite import segmentation
 from .api import synthesize, synthesize_positions
@@ -31,6 +31,8 @@ __all__ = [
     "positions_image",
     "synthesize_stack",
     "algorithms",
+    "budget",
+    "validation",
     "cooccurrence",
     "composite",
     "segmentation",

@@ -14,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from . import validation
+from . import budget, validation
 from .progress import Progress
 from .registry import get_method, methods
 
@@ -91,6 +91,7 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     seed = validation.seed(seed)
     validation.check_memory(m.memory(a.shape, width, height, values),
                             f"{width} x {height} with '{m.name}'")
+    budget.check_method(m, a.shape, width, height, values)
 
     constant_alpha = None
     if a.shape[2] == 4 and np.ptp(a[:, :, 3]) == 0:

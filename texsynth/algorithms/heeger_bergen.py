@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import costs
 from ..blocks.color import ColorPCA
 from ..blocks.histogram import BINS, JointTarget, JointWork, TargetHistogram, match, match_joint
 from ..blocks.periodic import periodic_component
@@ -170,4 +171,5 @@ METHOD = register(Method(
     ),
     min_exemplar=8,
     memory=_memory,
+    cost=costs.heeger_bergen,
 ))

@@ -15,6 +15,7 @@ Everything of the method lives in this package:
 
 from __future__ import annotations
 
+from ... import costs
 from ...registry import Method, register
 from ..cooccurrence import model as co
 from . import segmentation
@@ -47,4 +48,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=MIN_EXEMPLAR,
     memory=memory,
+    cost=costs.composite,
 ))

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ... import validation
+from ... import budget, costs, validation
 from ...api import synthesize as synthesize_method
 from ...blocks.color import ColorPCA
 from ...progress import Progress
@@ -391,6 +391,8 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
                          f"{type(fill_params).__name__}")
     validation.check_memory(memory(x.shape, width, height, checked),
                             f"composite synthesis of {width} x {height}")
+    budget.check_time(costs.composite(x.shape, width, height, checked) * budget.machine_factor(),
+                      f"composite synthesis of {width} x {height}")
     rng = np.random.default_rng(seed)
     report = Progress(progress)
     h, w = x.shape[:2]

@@ -10,6 +10,7 @@ Everything of the method lives in this package:
 
 from __future__ import annotations
 
+from ... import costs
 from ...registry import Method, register
 from .model import (
     LEVELS,
@@ -55,4 +56,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=8,
     memory=_memory,
+    cost=costs.cooccurrence,
 ))

@@ -48,7 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import validation
+from ... import budget, costs, validation
 from ...blocks.color import ColorPCA
 from ...progress import Progress
 from ...registry import Param
@@ -418,6 +418,9 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
     validation.check_memory(width * height * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_AND_TYPE
                                               * 2 * max(len(c.offsets) for c in model.channels)),
                             f"clique model synthesis of {width} x {height}")
+    budget.check_time(costs.cooccurrence_synthesis(
+        len(model.channels), max(len(c.offsets) for c in model.channels), width, height, sweeps)
+        * budget.machine_factor(), f"clique model synthesis of {width} x {height}")
     rng = _rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
     c = len(model.channels)
