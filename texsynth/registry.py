@@ -12,6 +12,7 @@ This module imports nothing of the project's: ``texsynth/__init__.py`` imports
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -55,7 +56,7 @@ class Param:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ValueError(f"parameter '{self.name}' must be a number, got {value!r}")
         if self.type is int:
-            if int(value) != value:
+            if not math.isfinite(value) or int(value) != value:
                 raise ValueError(f"parameter '{self.name}' must be a whole number, got {value!r}")
             value = int(value)
         else:

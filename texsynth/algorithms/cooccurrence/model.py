@@ -280,7 +280,9 @@ def select(candidates: list[Term], exemplar_pairs: np.ndarray, singleton: np.nda
     span = int(levels.max())
     pairs = PairIndex(start.shape, [t.offset for t in candidates], span, labels,
                       [(t.head, t.tail) for t in candidates])
-    target = np.array([t.target for t in candidates], np.float64)
+    # (n, bins) even for n = 0 (a composite class too small for any clique type)
+    target = np.array([t.target for t in candidates], np.float64).reshape(len(candidates),
+                                                                           2 * span + 1)
     spread = 1.0 - (target ** 2).sum(axis=1)
     image = start
     selected: list[int] = []
