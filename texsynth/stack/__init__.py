@@ -32,7 +32,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .. import validation
+from .. import budget, validation
 from ..algorithms import multiscale_mrf
 from ..api import synthesize_positions
 from ..blocks.search import disk_offsets
@@ -116,6 +116,12 @@ def synthesize_stack(
                               if k in {p.name for p in mrf.params}})
     if mode == "guided":
         _check_memory(views, support, width, height, mrf_params)
+        # each guided view costs about one multiscale_mrf run (the support's is checked by
+        # synthesize_positions)
+        budget.check_time(len(views) * budget.predict(mrf, views[support].shape, width, height,
+                                                      mrf_params),
+                          f"guided synthesis of {len(views)} maps of {width} x {height}",
+                          "mode='column'")
     report = Progress(progress)
     share = 1.0 / len(views) if mode == "guided" else 1.0
     image_a, positions = synthesize_positions(views[support], width, height, method, seed,
