@@ -5,7 +5,9 @@ must either give a sane result (the promised shape and dtype, finite values for 
 the input left untouched) or raise a ``ValueError`` raised by texsynth itself (the raising frame
 is in the package) whose message is not numpy's or Python's. Examples are few and small, the
 order is fixed (``derandomize``), so the file runs in well under a minute; ``deadline`` catches
-a hang, not a slow run.
+a hang, not a slow run. A numpy RuntimeWarning (overflow, invalid value) fails the example.
+``TEXSYNTH_FUZZ_EXAMPLES=200`` runs a longer sweep; ``--hypothesis-show-statistics`` shows the
+share of examples that ran and the refusals.
 """
 
 import os
@@ -18,6 +20,9 @@ from hypothesis import strategies as st
 
 import texsynth
 from texsynth import composite, cooccurrence
+
+#: An overflow or a division by zero is garbage on its way out: an error here.
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
 
 PACKAGE = os.path.dirname(texsynth.__file__)
 FOREIGN = ("need at least one array", "out of bounds", "could not broadcast", "division by zero",

@@ -135,14 +135,22 @@ def synthesize_stack(
             continue
         rng = np.random.default_rng([int(seed), v])
         span = report.span(share * (n + 1), share * (n + 2))
-        flat = guided_mrf(views[support], views[v], image_a, positions, rng, span, c,
-                          **mrf_params)
+        # huge or tiny values are compared at an exact power-of-two scale, as in synthesize
+        a_in, b_in = _ordinary(views[support]), _ordinary(views[v])
+        a_out = _ordinary(image_a, validation.magnitude_scale(views[support]))
+        flat = guided_mrf(a_in, b_in, a_out, positions, rng, span, c, **mrf_params)
         h, w = views[v].shape[:2]
         out[v] = views[v].reshape(h * w, -1)[flat]
     report(1.0, "stack: done")
     if isinstance(stack, np.ndarray):
         return np.stack(out)
     return out
+
+
+def _ordinary(a: np.ndarray, scale: float | None = None) -> np.ndarray:
+    """``a`` times ``scale`` (default: its own ``validation.magnitude_scale``), exactly."""
+    scale = validation.magnitude_scale(a) if scale is None else scale
+    return a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
 
 
 def _check_memory(views, support, width, height, params) -> None:
