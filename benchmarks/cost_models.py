@@ -1,7 +1,8 @@
 """python -m benchmarks.cost_models [--fit]: each method's cost model against measured runs.
 
 For every method, a few sizes are run once (small: the whole takes a few minutes on 2 shared
-cores) and the measured seconds printed beside the prediction (``texsynth.budget.predict``:
+cores; run it when the machine is quiet: a loaded machine skews single short runs by 2-3x) and
+the measured seconds printed beside the prediction (``texsynth.budget.predict``:
 the method's ``cost`` times this machine's speed factor) and their ratio. The rows marked
 ``fit`` are the sizes the coefficients in ``texsynth/costs.py`` were fitted on; the others
 check the prediction at sizes it was not fitted on. ``--fit`` also prints, per method, the
@@ -32,6 +33,7 @@ CASES = [
     ("efros_leung", 48, 48, 48, {}, True),
     ("efros_leung", 40, 40, 32, {"window": 7}, False),
     ("efros_leung", 32, 56, 48, {}, False),
+    ("efros_leung", 48, 96, 96, {}, False),
     ("multiscale_mrf", 64, 64, 64, {}, True),
     ("multiscale_mrf", 64, 192, 192, {}, True),
     ("multiscale_mrf", 48, 128, 96, {"radius": 2}, False),
