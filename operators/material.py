@@ -18,6 +18,7 @@ made: on error or cancel the file is unchanged.
 """
 
 import bpy
+import numpy as np
 
 from .. import texsynth
 from . import output, pixels, properties, source
@@ -49,6 +50,9 @@ def material_maps(operator, context):
     for node_name, image in [(src.node, bpy.data.images[src.image])] + [
             (n.name, n.image) for n in source.follower_nodes(context, src)]:
         values, encoding = pixels.read_exemplar(image)
+        if not np.isfinite(values).all():
+            raise ValueError(f"Image '{image.name}' of node '{node_name}' contains NaN or "
+                             "infinite values; repair or clamp that map first")
         if maps and values.shape[:2] != maps[0][1].shape[:2]:
             h, w = maps[0][1].shape[:2]
             raise ValueError(f"Image '{image.name}' of node '{node_name}' is "

@@ -42,6 +42,28 @@ def _source_or_reason(layout, context):
         return None
 
 
+def _draw_prediction(layout, settings, found) -> None:
+    """Predicted time and memory of the chosen method and size (cost models only: nothing is
+    run); a warning icon when over a budget. Needs the source's size: nothing without one."""
+    image = bpy.data.images.get(found.image) if found is not None else None
+    if image is None or min(image.size) == 0:
+        return
+    method = properties.selected_method(settings)
+    try:
+        values = method.resolve(properties.param_values(
+            properties.method_settings(settings, method), method))
+        width, height = texsynth.validation.size(settings.width, settings.height)
+        seconds = texsynth.budget.predict(method, (image.size[1], image.size[0], 3), width,
+                                          height, values)
+        need = method.memory((image.size[1], image.size[0], 3), width, height, values)
+        over = seconds > texsynth.budget.time_budget() or need > texsynth.memory_budget()
+    except ValueError as error:
+        layout.label(text=str(error), icon="ERROR")
+        return
+    layout.label(text=f"About {texsynth.budget.describe(seconds)}, {need / 2**30:.2g} GiB",
+                 icon="ERROR" if over else "TIME")
+
+
 class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
     """The source image, the synthesis settings and the button."""
 
@@ -53,6 +75,7 @@ class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
         if found is not None:
             layout.label(text=found.image, icon="IMAGE_DATA")
         properties.draw_settings(layout, context.scene.texsynth)
+        _draw_prediction(layout, context.scene.texsynth, found)
         layout.operator("texsynth.synthesize", icon="TEXTURE")
         layout.operator("texsynth.make_tileable", icon="MOD_ARRAY")
 

@@ -14,7 +14,7 @@ Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 from __future__ import annotations
 
 # ruff: noqa: I001  (algorithms first: importing it registers every method, in panel order)
-from . import algorithms
+from . import algorithms, budget, validation
 from .algorithms import composite, cooccurrence
 from .algorithms.composite import segmentation
 from .api import synthesize, synthesize_positions
@@ -35,6 +35,8 @@ __all__ = [
     "algorithms",
     "make_tileable",
     "make_tileable_positions",
+    "budget",
+    "validation",
     "cooccurrence",
     "composite",
     "segmentation",

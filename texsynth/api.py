@@ -1,9 +1,11 @@
 """The synthesis entry points: validate, run the registered method, hand back a periodic image.
 
 Every method goes through :func:`synthesize` (or :func:`synthesize_positions`): arguments are
-checked by :mod:`texsynth.validation` before any work, a constant alpha channel is set aside and
-put back, the method gets a seeded ``numpy.random.Generator`` and a
-:class:`~texsynth.progress.Progress`, and its result is checked against the promised shape.
+checked by :mod:`texsynth.validation` and the time budget (:mod:`texsynth.budget`) before any
+work, a constant alpha channel is set aside and put back, values of huge or tiny magnitude are
+worked on at an exact power-of-two scale (``validation.magnitude_scale``), the method gets a
+seeded ``numpy.random.Generator`` and a :class:`~texsynth.progress.Progress`, and its result is
+checked against the promised shape.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from . import validation
+from . import budget, validation
 from .progress import Progress
 from .registry import get_method, methods
 
@@ -89,6 +91,7 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     seed = validation.seed(seed)
     validation.check_memory(m.memory(a.shape, width, height, values),
                             f"{width} x {height} with '{m.name}'")
+    budget.check_method(m, a.shape, width, height, values)
 
     constant_alpha = None
     if a.shape[2] == 4 and np.ptp(a[:, :, 3]) == 0:
@@ -98,11 +101,17 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     report = Progress(progress)
     report(0.0, f"{m.label}: starting")
     rng = np.random.default_rng(seed)
-    out = m.function(a, width, height, rng, report, **values)
+    scale = validation.magnitude_scale(a)
+    work = a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
+    out = m.function(work, width, height, rng, report, **values)
     positions = None
     if m.positions:
         out, positions = out
         positions = np.ascontiguousarray(positions, dtype=np.int32)
+        if scale != 1.0:
+            out = a[positions[:, :, 0], positions[:, :, 1]]
+    elif scale != 1.0:
+        out = np.asarray(out, np.float64) / scale
     out = np.ascontiguousarray(out, dtype=np.float32)
     if out.shape != (height, width, a.shape[2]):
         raise AssertionError(f"{m.name} returned {out.shape}, "

@@ -12,6 +12,7 @@ This module imports nothing of the project's: ``texsynth/__init__.py`` imports
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -55,7 +56,7 @@ class Param:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ValueError(f"parameter '{self.name}' must be a number, got {value!r}")
         if self.type is int:
-            if int(value) != value:
+            if not math.isfinite(value) or int(value) != value:
                 raise ValueError(f"parameter '{self.name}' must be a whole number, got {value!r}")
             value = int(value)
         else:
@@ -78,7 +79,9 @@ class Method:
     :class:`texsynth.progress.Progress`, and returns float32 (height, width, C) that tiles.
     ``min_exemplar`` is the smallest exemplar side the method accepts;
     ``memory(exemplar_shape, width, height, params)`` estimates the peak working bytes, checked
-    against the budget before anything is allocated.
+    against the budget before anything is allocated; ``cost(exemplar_shape, width, height,
+    params)`` predicts the run time in seconds on the reference machine (``texsynth.budget``
+    scales it to this machine's speed and checks it against the time budget).
     """
 
     name: str
@@ -89,6 +92,9 @@ class Method:
     min_exemplar: int = 8
     memory: Callable[[tuple, int, int, dict], float] = (
         lambda shape, width, height, params: 64.0 * width * height * shape[2]
+    )
+    cost: Callable[[tuple, int, int, dict], float] = (
+        lambda shape, width, height, params: 1e-6 * width * height * shape[2]
     )
     #: The function returns ``(image, positions)``: int32 (height, width, 2) (row, col) into the
     #: exemplar, the pixel each output pixel was copied from (see ``texsynth.apply_positions``).

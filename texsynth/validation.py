@@ -6,7 +6,11 @@ the checked array itself.
 
 - :func:`image`: an image array (H, W) or (H, W, C), numeric and finite, as float32 (H, W, C);
 - :func:`size` and :func:`seed`: output sizes and seeds, whole numbers in range;
-- :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget.
+- :func:`whole` and :func:`finite`: a bounded whole number, a finite real number;
+- :func:`params`: keyword arguments against a method's typed ``Param`` records;
+- :func:`magnitude_scale`: the power of two that brings huge or tiny values to order one;
+- :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget
+  (the time budget is :mod:`texsynth.budget`'s).
 """
 
 from __future__ import annotations
@@ -15,7 +19,8 @@ import os
 
 import numpy as np
 
-__all__ = ["MAX_SIDE", "image", "size", "seed", "number", "memory_budget", "check_memory"]
+__all__ = ["MAX_SIDE", "image", "size", "seed", "number", "whole", "finite", "params",
+           "magnitude_scale", "memory_budget", "check_memory"]
 
 #: Largest output side accepted (pixels).
 MAX_SIDE = 16384
@@ -77,6 +82,50 @@ def number(value, name: str, low: float, high: float) -> float:
             or not low <= value <= high:
         raise ValueError(f"{name} must be a number from {low} to {high}, got {value!r}")
     return float(value)
+
+
+def whole(value, name: str, low: int, high: int | None = None) -> int:
+    """A whole number (not a bool) in [low, high] (no upper bound when ``high`` is None)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low \
+            or (high is not None and value > high):
+        bound = f"from {low} to {high}" if high is not None else f"of at least {low}"
+        raise ValueError(f"{name} must be a whole number {bound}, got {value!r}")
+    return int(value)
+
+
+def finite(value, name: str) -> float:
+    """A finite real number (not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def params(specs, values: dict, owner: str) -> dict:
+    """``values`` checked against the ``Param`` records ``specs``: each coerced to its type and
+    range (``ValueError`` naming the parameter); unknown names are refused."""
+    known = {p.name: p for p in specs}
+    unknown = sorted(set(values) - set(known))
+    if unknown:
+        raise ValueError(f"{owner} has no parameter {', '.join(map(repr, unknown))}; "
+                         f"its parameters are: {', '.join(sorted(known))}")
+    return {name: known[name].validate(v) for name, v in values.items()}
+
+
+#: Magnitudes (powers of two) between which values are worked on as they are.
+ORDINARY = (-16, 16)
+
+
+def magnitude_scale(a: np.ndarray) -> float:
+    """1.0 for values of ordinary magnitude (the largest |value| from 2^-16 to 2^16, or all
+    zero); else the power of two that brings the largest to order one. Multiplying by a power
+    of two is exact in floating point, so a method can work on ``a * scale`` (squared distances
+    of values near 1e30 overflow float32) and its result be divided back without rounding."""
+    peak = float(np.max(np.abs(a))) if a.size else 0.0
+    if peak == 0.0:
+        return 1.0
+    k = int(np.floor(np.log2(peak)))
+    return 1.0 if ORDINARY[0] <= k <= ORDINARY[1] else float(2.0 ** -k)
 
 
 def memory_budget() -> int:

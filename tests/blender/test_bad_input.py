@@ -108,3 +108,46 @@ def test_a_size_over_the_memory_budget_is_refused_before_any_work(monkeypatch):
     with pytest.raises(RuntimeError, match="budget"):
         bpy.ops.texsynth.synthesize(**{**FAST, "width": 4096, "height": 4096})
     assert fingerprint() == before
+
+
+def _nan_follower(tree):
+    values = noise(32, 32, seed=2)[:, :, :1].copy()
+    values[4, 7, 0] = np.nan
+    node = tree.nodes.new("ShaderNodeTexImage")
+    node.name = "rough node"
+    node.image = generated_image(values, name="rough", float_buffer=True, colorspace="Non-Color")
+    node.select = True
+    tree.nodes["source node"].select = True
+
+
+@pytest.mark.parametrize("mode", ["GUIDED", "COLUMN"])
+def test_a_nan_map_of_a_material_is_refused_naming_it(mode):
+    _nan_follower(material_with(_photo()))
+    before = fingerprint()
+    with pytest.raises(RuntimeError, match="Image 'rough' of node 'rough node' contains NaN"):
+        bpy.ops.texsynth.synthesize_material(mode=mode, method="MULTISCALE_MRF", width=32,
+                                             height=32)
+    assert fingerprint() == before
+
+
+@pytest.mark.parametrize("properties, message", [
+    ({"interaction_distance": -1}, "'interaction_distance' must be >= 0"),
+    ({"levels": 0}, "'levels' must be >= 4"),
+    ({"max_offset": 0}, "'max_offset' must be >= 1"),
+    ({"width": 0}, "width must be between"),
+])
+def test_the_composite_operator_checks_its_parameters(properties, message):
+    material_with(_photo())
+    before = fingerprint()
+    with pytest.raises(RuntimeError, match=message):
+        bpy.ops.texsynth.synthesize_composite(**{"width": 32, "height": 32, **properties})
+    assert fingerprint() == before
+
+
+def test_a_run_over_the_time_budget_is_refused_naming_the_predicted_time(monkeypatch):
+    material_with(_photo())
+    monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", "0.001")
+    before = fingerprint()
+    with pytest.raises(RuntimeError, match="predicted to take about .* TEXSYNTH_TIME_BUDGET"):
+        bpy.ops.texsynth.synthesize(**{**FAST, "width": 256, "height": 256})
+    assert fingerprint() == before

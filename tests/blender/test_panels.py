@@ -104,3 +104,14 @@ def test_the_material_panel_asks_for_a_method_that_copies_pixels():
     layout = _draw("TEXSYNTH_PT_material")
     assert layout.labels == ["Choose a method that copies pixels"]
     assert not layout.drawn
+
+
+def test_the_synthesis_panel_shows_predicted_time_and_memory_before_the_button(monkeypatch):
+    material_with(generated_image(noise(24, 32), name="colour"))
+    settings = bpy.context.scene.texsynth
+    settings.method, settings.width, settings.height = "EFROS_LEUNG", 256, 256
+    small = [t for t in _draw("TEXSYNTH_PT_synthesize").labels if t.startswith("About ")]
+    settings.width = settings.height = 16384
+    large = [t for t in _draw("TEXSYNTH_PT_synthesize").labels if t.startswith("About ")]
+    assert len(small) == len(large) == 1 and small != large
+    assert large[0].split()[2] in ("h,", "days,")  # a job of hours is seen before pressing

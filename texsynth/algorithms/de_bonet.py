@@ -38,7 +38,9 @@ Deviations, one line each:
   nearest other one, so its meaning does not depend on the level or the texture;
 - when no exemplar location is within ``threshold``, the nearest parent structure's is copied;
 - the exemplar pyramid is built from its periodic component (Moisan), so the border jump of a
-  non-tiling photo gives no false parents; output values are clipped to the exemplar's range.
+  non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
+- an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
+  component of an exemplar crop (which tiles; the crop's own wrap would be a seam).
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .. import costs
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
@@ -256,6 +259,10 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
     for c in range(exemplar.shape[2]):
         progress(0.95 + 0.05 * c / exemplar.shape[2], "collapsing the pyramid")
         out[:, :, c] = pyr_output.synthesize(channel_levels(features, sources, c, orientations))
+    if levels == 0:
+        # too thin for a pyramid (a side under 8): the "coarsest level" is an exemplar crop,
+        # whose wrap is a jump; its periodic component (Moisan) tiles
+        out = periodic_component(out)
     return np.clip(out, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
 
 
@@ -287,4 +294,5 @@ METHOD = register(Method(
     ),
     min_exemplar=16,
     memory=_memory,
+    cost=costs.de_bonet,
 ))

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import costs
 from ..blocks.search import (
     PatchMatrix,
     gaussian_weights,
@@ -158,5 +159,6 @@ METHOD = register(Method(
     ),
     min_exemplar=3,
     memory=_memory,
+    cost=costs.efros_leung,
     positions=True,
 ))

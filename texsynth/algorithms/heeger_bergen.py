@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import costs
 from ..blocks.color import ColorPCA, sliced_transfer
 from ..blocks.histogram import BINS, JointTarget, JointWork, TargetHistogram, match, match_joint
 from ..blocks.periodic import periodic_component
@@ -187,4 +188,5 @@ METHOD = register(Method(
     ),
     min_exemplar=8,
     memory=_memory,
+    cost=costs.heeger_bergen,
 ))

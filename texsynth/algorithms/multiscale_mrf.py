@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import costs
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.search import Rows, best_candidate, disk_offsets, exemplar_neighbours
@@ -157,5 +158,6 @@ METHOD = register(Method(
     ),
     min_exemplar=3,
     memory=_memory,
+    cost=costs.multiscale_mrf,
     positions=True,
 ))

@@ -270,6 +270,16 @@ def _memory(shape, width, height, params):
     return per_exemplar * shape[0] * shape[1] + per_output * width * height
 
 
+
+def _cost(shape, width, height, params):
+    """Seconds on the reference machine (``texsynth.costs``): per EM iteration and patch size,
+    a PatchMatch over the output and the votes, and the exemplar's patch descriptors (fitted on
+    64-128 px exemplars to 128-384 px outputs at the defaults: within 10 % at 384)."""
+    h, w, c = shape
+    work = params["iterations"] / 3 * params["sizes"] / 2 * c / 3
+    return 0.2 + (3.2e-5 * width * height + 2.5e-5 * h * w) * work
+
+
 METHOD = register(Method(
     name="texture_optimization",
     label="Texture Optimization",
@@ -290,5 +300,6 @@ METHOD = register(Method(
     ),
     min_exemplar=8,
     memory=_memory,
+    cost=_cost,
     positions=True,
 ))

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .. import validation
 from .geometry import normal_from_angles
 
 __all__ = ["camera_pose", "focal_px_from_lens", "lens_from_focal_px"]
@@ -39,8 +40,17 @@ def camera_pose(slant: float, tilt: float, distance: float, plane_matrix=None) -
     rectified image's x and y axes (see :func:`rectify`), so texturing the plane with the
     rectified photo at default UVs reproduces the photo.
     """
-    if not distance > 0:
+    slant = validation.finite(slant, "slant (degrees)")
+    tilt = validation.finite(tilt, "tilt (degrees)")
+    if not 0 <= slant < 90:
+        raise ValueError(f"slant must be from 0 to below 90 degrees, got {slant}")
+    if not validation.finite(distance, "distance") > 0:
         raise ValueError(f"distance must be positive, got {distance}")
+    if plane_matrix is not None:
+        plane_matrix = np.asarray(plane_matrix)
+        if plane_matrix.shape != (4, 4) or plane_matrix.dtype.kind not in "fiu" \
+                or not np.isfinite(plane_matrix).all():
+            raise ValueError("plane_matrix must be a 4 x 4 matrix of finite numbers")
     s, t = math.radians(slant), math.radians(tilt)
     e1 = np.array([math.cos(s) * math.cos(t), math.cos(s) * math.sin(t), -math.sin(s)])
     e2 = np.array([-math.sin(t), math.cos(t), 0.0])

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import scipy.ndimage as ndi
 
+from .. import budget, validation
 from .fit import PlaneEstimate
 from .geometry import gradient, image_to_plane, plane_to_image, vanishing
 from .spectra import luminance, texture_mask
@@ -40,6 +41,30 @@ def _image_coords(x: np.ndarray, shape) -> np.ndarray:
     return np.stack([(h - 1) / 2 - x[..., 1], x[..., 0] + (w - 1) / 2])
 
 
+#: Seconds per output sample and channel (+2 for the coordinates) of rectify on the reference
+#: machine (texsynth.budget), measured at 512 to 1536 pixels a side.
+RECTIFY_SECONDS_PER_SAMPLE = 5e-8
+
+
+def _check_estimate(estimate) -> None:
+    """``ValueError`` unless ``estimate`` is a PlaneEstimate with finite angles (slant below 90
+    degrees), a positive finite focal length or None, and a positive image size."""
+    if not isinstance(estimate, PlaneEstimate):
+        raise ValueError("estimate must be the PlaneEstimate returned by estimate_plane")
+    size = estimate.image_size
+    focal = estimate.focal_px
+    if not (isinstance(size, (tuple, list)) and len(size) == 2
+            and all(isinstance(v, (int, np.integer)) and v > 0 for v in size)) \
+            or not all(isinstance(v, (int, float)) and math.isfinite(v)
+                       for v in (estimate.slant, estimate.tilt)) \
+            or not 0 <= estimate.slant < 90 \
+            or not (focal is None or (isinstance(focal, (int, float)) and math.isfinite(focal)
+                                      and focal > 0)):
+        raise ValueError("the estimate is malformed (it needs finite slant below 90 degrees and "
+                         "tilt, a positive focal length or None, and the image size it was made "
+                         "on); use the PlaneEstimate returned by estimate_plane")
+
+
 def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None) -> np.ndarray:
     """Back-project ``image`` onto the plane: a frontal view of its texture (float32 (h, w, C)).
 
@@ -51,8 +76,11 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     x and y axes are the plane's, which :func:`camera_pose` puts on the plane object's X and Y.
     ``size=(width, height)`` resamples the largest such rectangle of that aspect to that size.
     """
-    if not isinstance(estimate, PlaneEstimate):
-        raise ValueError("estimate must be the PlaneEstimate returned by estimate_plane")
+    _check_estimate(estimate)
+    if size is not None:
+        if not isinstance(size, (tuple, list)) or len(size) != 2:
+            raise ValueError(f"size must be (width, height) in pixels, got {size!r}")
+        size = validation.size(*size)
     a = np.asarray(image)
     lum = luminance(a)
     pixels = a.astype(np.float32) / np.iinfo(a.dtype).max if a.dtype.kind == "u" else a
@@ -94,9 +122,7 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     if size is None:
         out_w, out_h = cw, rh
     else:
-        out_w, out_h = (int(s) for s in size)
-        if min(out_w, out_h) < 1:
-            raise ValueError(f"size must be two positive pixel counts, got {size!r}")
+        out_w, out_h = size
         fit = min(extent[0] / out_w, extent[1] / out_h)
         top_left = top_left + [(extent[0] - out_w * fit) / 2, -(extent[1] - out_h * fit) / 2]
         extent = np.array([out_w, out_h]) * fit
@@ -104,6 +130,11 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     # Supersample where an output pixel covers several image pixels (the near side).
     minify = float(np.max(unit) / step * max(1.0, (1.0 - v @ back.reshape(-1, 2).T).max() ** 2))
     ss = int(np.clip(math.ceil(minify), 1, 4))
+    what = f"rectifying to {out_w} x {out_h}"
+    validation.check_memory(out_w * out_h * (8 * pixels.shape[2] + 8 * 7), what,
+                            "ask for a smaller size")
+    budget.check_time(RECTIFY_SECONDS_PER_SAMPLE * ss ** 2 * out_w * out_h
+                      * (pixels.shape[2] + 2) * budget.machine_factor(), what)
     out = np.zeros((out_h, out_w, pixels.shape[2]), np.float64)
     for sy in range(ss):
         for sx in range(ss):

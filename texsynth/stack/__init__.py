@@ -32,7 +32,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .. import validation
+from .. import budget, validation
 from ..algorithms import multiscale_mrf
 from ..api import synthesize_positions
 from ..blocks.search import disk_offsets
@@ -116,6 +116,12 @@ def synthesize_stack(
                               if k in {p.name for p in mrf.params}})
     if mode == "guided":
         _check_memory(views, support, width, height, mrf_params)
+        # each guided view costs about one multiscale_mrf run (the support's is checked by
+        # synthesize_positions)
+        budget.check_time(len(views) * budget.predict(mrf, views[support].shape, width, height,
+                                                      mrf_params),
+                          f"guided synthesis of {len(views)} maps of {width} x {height}",
+                          "mode='column'")
     report = Progress(progress)
     share = 1.0 / len(views) if mode == "guided" else 1.0
     image_a, positions = synthesize_positions(views[support], width, height, method, seed,
@@ -129,14 +135,22 @@ def synthesize_stack(
             continue
         rng = np.random.default_rng([int(seed), v])
         span = report.span(share * (n + 1), share * (n + 2))
-        flat = guided_mrf(views[support], views[v], image_a, positions, rng, span, c,
-                          **mrf_params)
+        # huge or tiny values are compared at an exact power-of-two scale, as in synthesize
+        a_in, b_in = _ordinary(views[support]), _ordinary(views[v])
+        a_out = _ordinary(image_a, validation.magnitude_scale(views[support]))
+        flat = guided_mrf(a_in, b_in, a_out, positions, rng, span, c, **mrf_params)
         h, w = views[v].shape[:2]
         out[v] = views[v].reshape(h * w, -1)[flat]
     report(1.0, "stack: done")
     if isinstance(stack, np.ndarray):
         return np.stack(out)
     return out
+
+
+def _ordinary(a: np.ndarray, scale: float | None = None) -> np.ndarray:
+    """``a`` times ``scale`` (default: its own ``validation.magnitude_scale``), exactly."""
+    scale = validation.magnitude_scale(a) if scale is None else scale
+    return a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
 
 
 def _check_memory(views, support, width, height, params) -> None:

@@ -86,7 +86,8 @@ def features(image: np.ndarray, texture: bool = False) -> np.ndarray:
 
 def _unit(f: np.ndarray, centre: np.ndarray, contrast: float) -> np.ndarray:
     v = np.concatenate([f - centre, np.full(f.shape[:-1] + (1,), contrast, np.float32)], axis=-1)
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    return v / np.where(norm > 0, norm, 1)  # a zero vector (contrast 0 at the centre) stays 0
 
 
 def partition(w: np.ndarray) -> np.ndarray:
@@ -164,7 +165,8 @@ def _segment(f: np.ndarray, samples: int, contrast: float, min_fraction: float,
     v = _unit(flat[pick], centre, contrast)
     group = partition(v @ v.T)
     means = np.stack([v[group == g].mean(axis=0) for g in range(group.max() + 1)])
-    means /= np.linalg.norm(means, axis=1, keepdims=True)
+    norm = np.linalg.norm(means, axis=1, keepdims=True)
+    means /= np.where(norm > 0, norm, 1)
     similarity = _unit(flat, centre, contrast) @ means.T
     keep = np.ones(len(means), bool)
     while True:

@@ -51,23 +51,58 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ... import validation
+from ... import budget, costs, validation
 from ...api import synthesize as synthesize_method
 from ...blocks.color import ColorPCA
 from ...progress import Progress
-from ...registry import get_method
+from ...registry import Param, get_method, methods
+from ..cooccurrence import METHOD as CLIQUE_MODEL
 from ..cooccurrence import model as co
 from ..cooccurrence.cliques import Relaxation, Term, difference_histograms, half_offsets
 from .segmentation import CONTRAST, label_colours, labels_from_image, segment
 
 __all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
-           "class_proportion_error", "INTERACTION_DISTANCE", "MIN_SQUARE"]
+           "class_proportion_error", "INTERACTION_DISTANCE", "MIN_SQUARE", "PARAMS"]
 
 INTERACTION_DISTANCE = 2
 #: Smallest inscribed square (pixels a side) handed to another fill method.
 MIN_SQUARE = 24
 #: Fewest cliques a candidate type needs in the exemplar to be modelled.
 MIN_PAIRS = 16
+#: Smallest exemplar side: segmentation and a label texture need room.
+MIN_EXEMPLAR = 16
+
+#: The method's parameters (the registered ``composite`` method's; :func:`synthesize` checks
+#: its keyword arguments against them).
+PARAMS = (
+    Param("fill", str, "cooccurrence", "Method that fills each region (clique model: with "
+          "interactions)", choices=("cooccurrence",) + tuple(
+              m.name for m in methods() if m.name not in ("composite", "cooccurrence"))),
+    Param("interaction_distance", int, INTERACTION_DISTANCE,
+          "Reach of the cliques across subtexture boundaries (0: none)", 0, 8),
+    Param("max_offset", int, co.MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
+    Param("threshold", float, co.THRESHOLD,
+          "Stop adding clique types when the worst histogram distance is below this",
+          0.001, 1.0),
+    Param("max_cliques", int, co.MAX_CLIQUES, "Most clique types per subtexture and "
+          "colour component", 1, 100),
+    Param("levels", int, co.LEVELS, "Grey levels of the strongest colour component", 4, 128),
+    Param("sweeps", int, co.SWEEPS, "Relaxation sweeps over the output", 1, 500),
+    Param("label_scale", int, 0, "Scale at which the label map is modelled (0: automatic)",
+          0, 8),
+    Param("contrast", float, CONTRAST, "Segmentation: colour difference (Lab) below which "
+          "regions join one class; larger gives fewer classes (0: automatic, the largest "
+          "of 6, 3, 2 that finds two classes)", 0.0, 100.0),
+    Param("texture_features", bool, False, "Segmentation: add filter-bank texture features "
+          "to the colour"),
+)
+
+
+def memory(shape, width, height, params) -> float:
+    """Peak bytes: the clique model's working set, the label maps, and which (term, end)
+    columns each pixel takes part in (2 bytes per selected type and pixel)."""
+    return (CLIQUE_MODEL.memory(shape, width, height, params)
+            + (16 + 2 * params["max_cliques"]) * width * height)
 
 
 @dataclass(frozen=True)
@@ -338,13 +373,26 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     Raises ``ValueError`` for a label image of the wrong size, a single class, or a fill
     method that does not exist.
     """
-    x = validation.image(exemplar)
+    if fill == "composite":
+        raise ValueError("fill must be a single-texture method, not 'composite'")
+    checked = validation.params(PARAMS, {
+        "fill": fill, "interaction_distance": interaction_distance, "max_offset": max_offset,
+        "threshold": threshold, "max_cliques": max_cliques, "levels": levels, "sweeps": sweeps,
+        "label_scale": label_scale, "contrast": contrast, "texture_features": texture_features,
+    }, "composite.synthesize")
+    (fill, interaction_distance, max_offset, threshold, max_cliques, levels, sweeps,
+     label_scale, contrast, texture_features) = checked.values()
+    x = validation.image(exemplar, min_side=MIN_EXEMPLAR)
     width, height = validation.size(width, height)
     seed = validation.seed(seed)
-    if fill != "cooccurrence":
-        if fill == "composite":
-            raise ValueError("fill must be a single-texture method, not 'composite'")
-        get_method(fill)
+    selection_size = validation.whole(selection_size, "selection_size", 8, validation.MAX_SIDE)
+    if fill_params is not None and not isinstance(fill_params, dict):
+        raise ValueError(f"fill_params must be a dict of the fill method's parameters, got "
+                         f"{type(fill_params).__name__}")
+    validation.check_memory(memory(x.shape, width, height, checked),
+                            f"composite synthesis of {width} x {height}")
+    budget.check_time(costs.composite(x.shape, width, height, checked) * budget.machine_factor(),
+                      f"composite synthesis of {width} x {height}")
     rng = np.random.default_rng(seed)
     report = Progress(progress)
     h, w = x.shape[:2]

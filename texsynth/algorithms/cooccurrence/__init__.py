@@ -10,11 +10,13 @@ Everything of the method lives in this package:
 
 from __future__ import annotations
 
-from ...registry import Method, Param, register
+from ... import costs
+from ...registry import Method, register
 from .model import (
     LEVELS,
     MAX_CLIQUES,
     MAX_OFFSET,
+    PARAMS,
     SELECTION_SIZE,
     SWEEPS,
     THRESHOLD,
@@ -51,16 +53,8 @@ METHOD = register(Method(
                 "of selected pixel pairs, synthesized by stochastic relaxation; never copies "
                 "the exemplar; best on fine stochastic textures",
     function=cooccurrence,
-    params=(
-        Param("max_offset", int, MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
-        Param("threshold", float, THRESHOLD,
-              "Stop adding clique types when the worst histogram distance is below this",
-              0.001, 1.0),
-        Param("max_cliques", int, MAX_CLIQUES, "Most clique types per colour component",
-              1, 100),
-        Param("levels", int, LEVELS, "Grey levels of the strongest colour component", 4, 128),
-        Param("sweeps", int, SWEEPS, "Relaxation sweeps over the output", 1, 500),
-    ),
+    params=PARAMS,
     min_exemplar=8,
     memory=_memory,
+    cost=costs.cooccurrence,
 ))

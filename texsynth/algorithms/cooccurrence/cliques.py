@@ -287,10 +287,11 @@ class Relaxation:
         self._takes_part = None if plain else np.stack([tp.ravel() for tp in takes_part], 1)
 
         core_u = self.image
-        self.counts = np.stack([
+        # no term (white noise selects none): the singleton histogram alone drives the sweeps
+        self.counts = np.array([
             difference_histograms(core_u, [term.offset], self.span, True, labels,
-                                  [(term.head, term.tail)])[0] for term in self.terms]
-        ).astype(np.float64).reshape(t, self.bins)
+                                  [(term.head, term.tail)])[0] for term in self.terms],
+            np.float64).reshape(t, self.bins)
         self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
         self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
             t, self.bins)

@@ -40,19 +40,22 @@ from __future__ import annotations
 
 import io
 import json
+import zipfile
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ... import validation
+from ... import budget, costs, validation
 from ...blocks.color import ColorPCA
 from ...progress import Progress
+from ...registry import Param
 from .cliques import GOLOMB, PairIndex, Relaxation, Term, difference_histograms, half_offsets
 
 __all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
-           "label_levels", "FORMAT"]
+           "label_levels", "FORMAT", "PARAMS"]
 
 FORMAT = "texsynth-cooccurrence-1"
 MAX_OFFSET = 8
@@ -64,6 +67,22 @@ SELECTION_SIZE = 64
 SELECTION_SWEEPS = 6
 #: Half-width (in levels) of the local proposals for grey levels.
 STEP = 3
+
+#: The method's parameters (the registered ``cooccurrence`` method's, checked by :func:`fit`
+#: and :func:`synthesize` too).
+PARAMS = (
+    Param("max_offset", int, MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
+    Param("threshold", float, THRESHOLD,
+          "Stop adding clique types when the worst histogram distance is below this",
+          0.001, 1.0),
+    Param("max_cliques", int, MAX_CLIQUES, "Most clique types per colour component", 1, 100),
+    Param("levels", int, LEVELS, "Grey levels of the strongest colour component", 4, 128),
+    Param("sweeps", int, SWEEPS, "Relaxation sweeps over the output", 1, 500),
+)
+#: Bytes a synthesis needs per output pixel and selected clique type (see ``_memory`` in
+#: ``__init__``): checked before :func:`synthesize` allocates.
+BYTES_PER_PIXEL = 4 * 6 + 3 * 4 * 4
+BYTES_PER_PIXEL_AND_TYPE = 8
 
 
 def label_levels(classes: int) -> np.ndarray:
@@ -188,16 +207,51 @@ class Model:
 
     @classmethod
     def load(cls, path) -> Model:
-        """Read a model written by :meth:`save`; ``ValueError`` if it is not one."""
+        """Read a model written by :meth:`save`; ``ValueError`` if it is not one, or if it is
+        damaged (truncated, corrupt, inconsistent or non-finite arrays, empty histograms)."""
         try:
             with np.load(path, allow_pickle=False) as data:
                 header = json.loads(bytes(data["header"]).decode())
-                if header.get("format") != FORMAT:
-                    raise KeyError(f"format {header.get('format')!r}, expected {FORMAT!r}")
-                return cls(data["mean"], data["basis"], data["low"], data["high"],
-                           ChannelModel.unpack(data), header["info"])
-        except (OSError, KeyError, EOFError, ValueError) as e:
-            raise ValueError(f"{path}: not a texsynth clique model ({e})") from None
+                if not isinstance(header, dict) or header.get("format") != FORMAT:
+                    found = header.get("format") if isinstance(header, dict) else header
+                    raise KeyError(f"format {found!r}, expected {FORMAT!r}")
+                model = cls(data["mean"], data["basis"], data["low"], data["high"],
+                            ChannelModel.unpack(data), header.get("info", {}))
+            model.check()
+            return model
+        except (OSError, KeyError, EOFError, ValueError, TypeError, IndexError, AttributeError,
+                UnicodeDecodeError, zipfile.BadZipFile, zlib.error) as e:
+            raise ValueError(f"{path}: not a texsynth clique model, or a damaged one ({e}); "
+                             "fit and save the model again") from None
+
+    def check(self) -> None:
+        """``ValueError`` unless the arrays fit together and are finite, and every histogram
+        has mass (a model read from a file is checked before it is used)."""
+        c = len(self.channels)
+        arrays = (self.mean, self.basis, self.low, self.high)
+        if c == 0 or any(np.asarray(a).size == 0 for a in arrays):
+            raise ValueError("empty model")
+        if np.asarray(self.basis).shape != (len(self.mean), c) or len(self.low) != len(self.mean) \
+                or len(self.high) != len(self.mean):
+            raise ValueError("the colour basis does not match the channels")
+        for k, ch in enumerate(self.channels):
+            levels = np.asarray(ch.levels)
+            bins = 2 * int(levels.max(initial=0)) + 1
+            if len(levels) < 1 or levels.min() < 0 or np.any(np.diff(levels) <= 0) \
+                    or len(ch.singleton) != len(levels):
+                raise ValueError(f"channel {k}: levels are not increasing marks")
+            if np.asarray(ch.offsets).shape != (len(ch.histograms), 2) \
+                    or np.abs(ch.offsets).max(initial=0) > 127 \
+                    or np.asarray(ch.histograms).shape[1:] != (bins,):
+                raise ValueError(f"channel {k}: clique types and histograms do not match")
+            values = [np.asarray(v, np.float64) for v in (ch.singleton, ch.histograms)]
+            if not all(np.isfinite(v).all() and (v >= 0).all() for v in values) \
+                    or not np.isfinite([ch.lo, ch.hi]).all():
+                raise ValueError(f"channel {k}: histograms hold negative or non-finite values")
+            if values[0].sum() <= 0 or (len(values[1]) and (values[1].sum(axis=1) <= 0).any()):
+                raise ValueError(f"channel {k}: a histogram is all zero")
+        if not all(np.isfinite(np.asarray(a, np.float64)).all() for a in arrays):
+            raise ValueError("the colour transform holds non-finite values")
 
     def synthesize(self, width: int, height: int, *, seed: int = 0, sweeps: int = SWEEPS,
                    progress: Callable[[float, str], object] | None = None) -> np.ndarray:
@@ -226,7 +280,9 @@ def select(candidates: list[Term], exemplar_pairs: np.ndarray, singleton: np.nda
     span = int(levels.max())
     pairs = PairIndex(start.shape, [t.offset for t in candidates], span, labels,
                       [(t.head, t.tail) for t in candidates])
-    target = np.array([t.target for t in candidates], np.float64)
+    # (n, bins) even for n = 0 (a composite class too small for any clique type)
+    target = np.array([t.target for t in candidates], np.float64).reshape(len(candidates),
+                                                                           2 * span + 1)
     spread = 1.0 - (target ** 2).sum(axis=1)
     image = start
     selected: list[int] = []
@@ -291,7 +347,14 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     distance; ``max_cliques``: most types per channel; ``levels``: grey levels per component.
     """
     x = validation.image(exemplar)
-    rng = np.random.default_rng(seed)
+    checked = validation.params(PARAMS, {"max_offset": max_offset, "threshold": threshold,
+                                         "max_cliques": max_cliques, "levels": levels},
+                                "cooccurrence.fit")
+    max_offset, threshold = checked["max_offset"], checked["threshold"]
+    max_cliques, levels = checked["max_cliques"], checked["levels"]
+    selection_size = validation.whole(selection_size, "selection_size", 8, validation.MAX_SIDE)
+    selection_sweeps = validation.whole(selection_sweeps, "selection_sweeps", 1, 1000)
+    rng = _rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
     pca = ColorPCA.fit(x)
     components = pca.forward(x)
@@ -349,7 +412,18 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
 
     A label-map model gives int32 (height, width) labels instead.
     """
-    rng = np.random.default_rng(seed)
+    if not isinstance(model, Model):
+        raise ValueError(f"model must be a texsynth.cooccurrence.Model (from fit or Model.load), "
+                         f"got {type(model).__name__}")
+    width, height = validation.size(width, height)
+    sweeps = validation.params(PARAMS, {"sweeps": sweeps}, "cooccurrence.synthesize")["sweeps"]
+    validation.check_memory(width * height * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_AND_TYPE
+                                              * 2 * max(len(c.offsets) for c in model.channels)),
+                            f"clique model synthesis of {width} x {height}")
+    budget.check_time(costs.cooccurrence_synthesis(
+        len(model.channels), max(len(c.offsets) for c in model.channels), width, height, sweeps)
+        * budget.machine_factor(), f"clique model synthesis of {width} x {height}")
+    rng = _rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
     c = len(model.channels)
     out = []
@@ -362,3 +436,10 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
     pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
     image = pca.inverse(np.stack(out, axis=2))
     return np.clip(image, model.low, model.high).astype(np.float32)
+
+
+def _rng(seed) -> np.random.Generator:
+    """A generator from a seed (a non-negative whole number) or the generator itself."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    return np.random.default_rng(validation.seed(seed))

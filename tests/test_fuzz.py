@@ -1,0 +1,275 @@
+"""Property-based sweep (Hypothesis) of every public entry point with hostile but fair input.
+
+Random shapes, dtypes, sizes, value ranges, seeds and parameters, some of them wrong. Each call
+must either give a sane result (the promised shape and dtype, finite values for finite input,
+the input left untouched) or raise a ``ValueError`` raised by texsynth itself (the raising frame
+is in the package) whose message is not numpy's or Python's. Examples are few and small, the
+order is fixed (``derandomize``), so the file runs in well under a minute; ``deadline`` catches
+a hang, not a slow run. A numpy RuntimeWarning (overflow, invalid value) fails the example.
+``TEXSYNTH_FUZZ_EXAMPLES=200`` runs a longer sweep; ``--hypothesis-show-statistics`` shows the
+share of examples that ran and the refusals.
+"""
+
+import os
+import traceback
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+import texsynth
+from texsynth import composite, cooccurrence
+
+#: An overflow or a division by zero is garbage on its way out: an error here.
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
+
+PACKAGE = os.path.dirname(texsynth.__file__)
+FOREIGN = ("need at least one array", "out of bounds", "could not broadcast", "division by zero",
+           "zero-size array", "invalid literal", "has no attribute", "probabilities contain",
+           "expected non-negative integer", "cannot be interpreted", "not supported between",
+           "unsupported operand", "gufunc signature", "setting an array element",
+           "truth value of an array")
+
+#: Examples per test (``TEXSYNTH_FUZZ_EXAMPLES`` for a longer sweep).
+EXAMPLES = int(os.environ.get("TEXSYNTH_FUZZ_EXAMPLES", 20))
+FUZZ = settings(max_examples=EXAMPLES, deadline=20000, derandomize=True, database=None,
+                suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+
+# --- strategies ----------------------------------------------------------------------------
+
+DTYPES = [np.float64, np.uint8, np.uint16, np.int32, np.bool_, np.complex64]
+RANGES = [(0.0, 1.0), (-5.0, 50.0), (1e29, 1e30), (0.0, 1e-30), (0.5, 0.5), (-1.0, 0.0)]
+
+
+def mostly(good, wrong, odds: int = 6):
+    """``good`` ``odds`` times out of ``odds + 1``, else ``wrong`` (Hypothesis favours the first
+    of a ``sampled_from``, and treats repeated ``one_of`` branches as one)."""
+    return st.sampled_from([True] * odds + [False]).flatmap(lambda ok: good if ok else wrong)
+
+
+@st.composite
+def images(draw, min_side=1, max_side=24):
+    """Mostly float32 with 1, 3 or 4 channels and sides from ``min_side`` (at least 12, the
+    largest default window) to ``max_side``; sometimes smaller, other dtypes or channels."""
+    side = mostly(st.integers(max(min_side, 12), max_side), st.integers(1, max_side))
+    h, w = draw(side), draw(side)
+    channels = draw(mostly(st.sampled_from([3, None, 1, 4]), st.sampled_from([2, 5])))
+    dtype = draw(mostly(st.just(np.float32), st.sampled_from(DTYPES), odds=3))
+    lo, hi = draw(st.sampled_from(RANGES))
+    rng = np.random.default_rng(draw(st.integers(0, 2**16)))
+    shape = (h, w) if channels is None else (h, w, channels)
+    values = lo + (hi - lo) * rng.random(shape)
+    if np.dtype(dtype).kind in "ui":
+        values = rng.integers(0, np.iinfo(dtype).max // 2 + 1, shape)
+    a = values.astype(dtype)
+    if np.dtype(dtype).kind == "f" and draw(st.sampled_from([False] * 7 + [True])):
+        a.flat[rng.integers(a.size)] = draw(st.sampled_from([np.nan, np.inf, -np.inf]))
+    return a
+
+
+SIZES = mostly(st.integers(1, 40), st.sampled_from([0, -1, 0.5, 16.0, "16", None, True, 10**6]),
+               odds=10)
+SEEDS = mostly(st.integers(0, 2**40), st.sampled_from([-1, 1.5, "1", None, True]))
+WRONG = st.sampled_from([-1, 0, 10**6, 0.5, -0.5, float("nan"), float("inf"), "x", None, True,
+                         [1]])
+
+
+def _value(p):
+    """A value for parameter ``p``: mostly in range (small, to stay fast), sometimes not."""
+    if p.type is bool:
+        good = st.booleans()
+    elif p.type is str:
+        good = st.sampled_from(p.choices)
+    elif p.type is int:
+        good = st.integers(int(p.min), int(min(p.max, p.min + 3)))
+    else:
+        good = st.floats(p.min, p.max, allow_nan=False)
+    return mostly(good, WRONG, odds=10)
+
+
+@st.composite
+def params_for(draw, method):
+    chosen = draw(st.lists(st.sampled_from(method.params), unique=True, max_size=3)) \
+        if method.params else []
+    values = {p.name: draw(_value(p)) for p in chosen}
+    # the slow knobs of the clique model stay small unless drawn wrong
+    for name, small in (("max_cliques", 3), ("sweeps", 2), ("iterations", 2)):
+        if any(p.name == name for p in method.params) and name not in values:
+            values[name] = small
+    if draw(st.sampled_from([False] * 19 + [True])):
+        values["no_such_parameter"] = 1
+    return values
+
+
+# --- the property --------------------------------------------------------------------------
+
+
+def _ours(error: ValueError) -> bool:
+    """Raised in texsynth's own code, with a message that is not numpy's or Python's."""
+    frame = traceback.extract_tb(error.__traceback__)[-1]
+    message = str(error)
+    return frame.filename.startswith(PACKAGE) and not any(f in message for f in FOREIGN)
+
+
+def _snapshot(*arrays):
+    return [np.array(a, copy=True) for a in arrays]
+
+
+def _untouched(before, arrays):
+    return all(np.array_equal(b, a, equal_nan=True) for b, a in zip(before, arrays, strict=True))
+
+
+def check(call, *inputs):
+    """Run ``call``; return its result, or None after a ValueError of ours. Inputs untouched."""
+    before = _snapshot(*inputs)
+    try:
+        result = call()
+    except ValueError as error:
+        assert _ours(error), f"foreign error: {type(error).__name__}: {error}\n" + \
+            "".join(traceback.format_tb(error.__traceback__)[-3:])
+        result = None
+        event(f"refused: {str(error)[:40]}")
+    else:
+        event("result")
+    assert _untouched(before, inputs), "an input was modified"
+    return result
+
+
+def _sane(out, width, height, exemplar):
+    x = np.asarray(exemplar)
+    channels = 1 if x.ndim == 2 else x.shape[2]
+    assert out.dtype == np.float32 and out.shape == (height, width, channels)
+    assert np.isfinite(out).all()
+
+
+METHODS = texsynth.methods()
+
+
+@FUZZ
+@given(data=st.data())
+@pytest.mark.parametrize("method", METHODS, ids=[m.name for m in METHODS])
+def test_synthesize(method, data):
+    exemplar = data.draw(images(min_side=method.min_exemplar))
+    width, height, seed = data.draw(SIZES), data.draw(SIZES), data.draw(SEEDS)
+    params = data.draw(params_for(method))
+    out = check(lambda: texsynth.synthesize(exemplar, width, height, method=method.name,
+                                            seed=seed, **params), exemplar)
+    if out is not None:
+        _sane(out, width, height, exemplar)
+
+
+@FUZZ
+@given(exemplar=images(), width=SIZES, height=SIZES,
+       method=mostly(st.sampled_from(["multiscale_mrf", "efros_leung"]), st.just("heeger_bergen")),
+       mode=mostly(st.sampled_from(["column", "guided"]), st.just("other")))
+def test_positions_and_stack(exemplar, width, height, method, mode):
+    follower = np.asarray(exemplar)[..., :1] if np.asarray(exemplar).ndim == 3 else exemplar
+    fast = {"visits": 1, "levels": 1} if method == "multiscale_mrf" else {}
+    out = check(lambda: texsynth.synthesize_stack([exemplar, follower], width, height,
+                                                  method=method, mode=mode, **fast), exemplar)
+    if out is not None:
+        assert len(out) == 2 and out[0].shape[:2] == (height, width)
+        assert out[1].shape[:2] == (height, width)
+    result = check(lambda: texsynth.synthesize_positions(exemplar, width, height, method=method,
+                                                         **fast), exemplar)
+    if result is not None:
+        image, positions = result
+        moved = check(lambda: texsynth.apply_positions(positions, exemplar), exemplar)
+        assert moved is None or moved.shape[:2] == (height, width)
+
+
+@FUZZ
+@given(exemplar=images(min_side=8), width=SIZES, height=SIZES, seed=SEEDS, data=st.data())
+def test_clique_model(exemplar, width, height, seed, data):
+    spec = {p.name: p for p in cooccurrence.model.PARAMS}
+    fit_params = {name: data.draw(_value(spec[name]))
+                  for name in data.draw(st.lists(st.sampled_from(
+                      ["max_offset", "threshold", "levels"]), unique=True, max_size=2))}
+    model = check(lambda: cooccurrence.fit(exemplar, seed=seed, max_cliques=3, **fit_params),
+                  exemplar)
+    if model is None:
+        return
+    sweeps = data.draw(st.one_of(st.integers(1, 2), WRONG))
+    out = check(lambda: model.synthesize(width, height, seed=seed, sweeps=sweeps))
+    if out is not None:
+        _sane(out, width, height, exemplar)
+
+
+@FUZZ
+@given(exemplar=images(min_side=16), width=SIZES, height=SIZES, seed=SEEDS, data=st.data())
+def test_composite_entry_point(exemplar, width, height, seed, data):
+    params = data.draw(params_for(texsynth.get_method("composite")))
+    params.pop("no_such_parameter", None)  # a keyword function: Python's TypeError names it
+    labels = data.draw(mostly(st.sampled_from([None, "stripes"]), st.just("wrong size")))
+    x = np.asarray(exemplar)
+    if labels == "stripes":
+        labels = (np.arange(x.shape[1])[None, :] * 2 // x.shape[1]).repeat(x.shape[0], 0)
+    elif labels == "wrong size":
+        labels = np.zeros((3, 3), np.int32)
+    result = check(lambda: composite.synthesize(exemplar, width, height, labels=labels,
+                                                seed=seed, **params), exemplar)
+    if result is not None:
+        _sane(result.image, width, height, exemplar)
+
+
+@FUZZ
+@given(payload=st.binary(max_size=300), keep=st.integers(0, 4000))
+def test_model_files(tmp_path_factory, payload, keep):
+    model = _model()
+    path = tmp_path_factory.mktemp("model") / "m.npz"
+    path.write_bytes(model.to_bytes()[:keep] + payload)
+    loaded = check(lambda: cooccurrence.Model.load(path))
+    if loaded is not None:
+        _sane(loaded.synthesize(5, 4), 5, 4, np.zeros((1, 1, 3)))
+
+
+_MODEL = []
+
+
+def _model():
+    if not _MODEL:
+        rng = np.random.default_rng(1)
+        _MODEL.append(cooccurrence.fit(rng.random((16, 16, 3)).astype(np.float32), max_cliques=2))
+    return _MODEL[0]
+
+
+@FUZZ
+@given(image=images(min_side=4), contrast=st.one_of(st.floats(0, 100), WRONG))
+def test_segment(image, contrast):
+    labels = check(lambda: texsynth.segmentation.segment(image, contrast=contrast), image)
+    if labels is not None:
+        assert labels.shape == np.asarray(image).shape[:2] and labels.min() == 0
+
+
+NUMBERS = mostly(st.floats(0, 89), st.one_of(st.floats(-1000, 1000), WRONG))
+
+
+@FUZZ
+@given(slant=NUMBERS, tilt=NUMBERS, distance=NUMBERS)
+def test_camera_pose(slant, tilt, distance):
+    pose = check(lambda: texsynth.camera_pose(slant, tilt, distance))
+    if pose is not None:
+        assert pose.shape == (4, 4) and np.isfinite(pose).all()
+
+
+@pytest.fixture(scope="module")
+def plane():
+    rng = np.random.default_rng(3)
+    photo = rng.random((64, 64)).astype(np.float32)
+    return photo, texsynth.estimate_plane(photo, method="isotropy")
+
+
+@FUZZ
+@given(size=st.one_of(st.none(), st.tuples(SIZES, SIZES), SIZES), slant=NUMBERS,
+       focal=st.one_of(st.none(), NUMBERS))
+def test_rectify(plane, size, slant, focal):
+    import dataclasses
+
+    photo, estimate = plane
+    estimate = dataclasses.replace(estimate, slant=slant, focal_px=focal)
+    out = check(lambda: texsynth.rectify(photo, estimate, size=size), photo)
+    if out is not None:
+        assert out.dtype == np.float32 and np.isfinite(out).all()
+        if isinstance(size, tuple):
+            assert out.shape[:2] == (size[1], size[0])

@@ -1,0 +1,118 @@
+"""The time budget, beside the memory budget: refuse a run predicted to take too long.
+
+A method's ``cost(exemplar_shape, width, height, params)`` (``texsynth.registry.Method``)
+predicts its run time in seconds on the reference machine, from a cost model fitted to
+measured runs (``python -m benchmarks.cost_models`` prints predictions against measurements).
+This machine's speed relative to the reference is measured once per process by a tiny
+calibration run (:func:`machine_factor`, about 0.1 s: the matrix products, FFTs and gathers the
+methods spend their time in), so a prediction is ``cost * machine_factor()``.
+
+:func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
+(``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
+time and what to change.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+
+from . import validation
+from .registry import methods
+
+__all__ = ["time_budget", "machine_factor", "predict", "check_time", "check_method", "describe",
+           "DEFAULT_BUDGET"]
+
+#: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
+DEFAULT_BUDGET = 3600.0
+#: Seconds the calibration workload took on the reference machine (where the cost models were
+#: fitted: 2 shared cores, numpy 1.26), the fastest of three runs.
+REFERENCE_SECONDS = 0.027
+
+_factor: float | None = None
+
+
+def time_budget() -> float:
+    """Seconds a run may be predicted to take: ``TEXSYNTH_TIME_BUDGET`` or one hour."""
+    value = os.environ.get("TEXSYNTH_TIME_BUDGET", "")
+    try:
+        budget = float(value) if value else DEFAULT_BUDGET
+    except ValueError:
+        raise ValueError(f"TEXSYNTH_TIME_BUDGET must be a number of seconds, got {value!r}") \
+            from None
+    if not budget > 0:
+        raise ValueError(f"TEXSYNTH_TIME_BUDGET must be a positive number of seconds, "
+                         f"got {value!r}")
+    return budget
+
+
+def _workload() -> float:
+    """Seconds of a fixed mix of the methods' kernels: a float32 matrix product (the patch
+    searches), real FFTs (the pyramids) and a gather with a bincount (the relaxations)."""
+    rng = np.random.default_rng(0)
+    a = rng.random((256, 384), dtype=np.float32)
+    b = rng.random((384, 256), dtype=np.float32)
+    image = rng.random((256, 256), dtype=np.float32)
+    index = rng.integers(0, 1 << 16, 1 << 18)
+    start = time.perf_counter()
+    for _ in range(2):
+        a @ b
+        np.fft.irfft2(np.fft.rfft2(image))
+        np.bincount(image.ravel()[index % image.size].astype(np.int64) + index % 7)
+    return time.perf_counter() - start
+
+
+def machine_factor() -> float:
+    """This machine's time for the calibration workload over the reference machine's (the
+    fastest of three runs, measured once per process; clipped to 0.1 .. 100)."""
+    global _factor
+    if _factor is None:
+        measured = min(_workload() for _ in range(3))
+        _factor = float(np.clip(measured / REFERENCE_SECONDS, 0.1, 100.0))
+    return _factor
+
+
+def predict(method, exemplar_shape, width: int, height: int, params: dict) -> float:
+    """Predicted seconds of ``method`` (a registry ``Method``) on this machine."""
+    return float(method.cost(tuple(exemplar_shape), width, height, params)) * machine_factor()
+
+
+def describe(seconds: float) -> str:
+    """A duration as people say it: '0.4 s', '12 s', '7 min', '3.2 h', '2.5 days'."""
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 172800:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} days"
+
+
+def check_time(seconds: float, what: str, advice: str = "") -> None:
+    """``ValueError`` before any work when ``seconds`` (predicted) exceed :func:`time_budget`."""
+    budget = time_budget()
+    if seconds > budget:
+        raise ValueError(f"{what} is predicted to take about {describe(seconds)}, over the time "
+                         f"budget of {describe(budget)}; choose a smaller size"
+                         f"{', ' + advice if advice else ''}, or set TEXSYNTH_TIME_BUDGET "
+                         "(seconds) to raise the budget")
+
+
+def check_method(method, exemplar_shape, width: int, height: int, params: dict) -> float:
+    """The predicted seconds of a synthesis with ``method``, or ``ValueError`` over the budget
+    naming the predicted time and, when one fits the budget, the fastest other method."""
+    seconds = predict(method, exemplar_shape, width, height, params)
+    if seconds > time_budget():
+        others = sorted((predict(m, exemplar_shape, width, height, m.resolve({})), m.name)
+                        for m in methods() if m.name != method.name
+                        and m.memory(exemplar_shape, width, height, m.resolve({}))
+                        <= validation.memory_budget())
+        fits = [(t, name) for t, name in others if t <= time_budget()]
+        advice = (f"a faster method ('{fits[0][1]}': about {describe(fits[0][0])})"
+                  if fits else "")
+        check_time(seconds, f"{width} x {height} with '{method.name}'", advice)
+    return seconds
