@@ -41,7 +41,8 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
     output: bpy.props.EnumProperty(name="Output", items=properties.OUTPUT_ITEMS, default="PACK",
                                    options={"SKIP_SAVE"})
     output_dir: bpy.props.StringProperty(name="Output Directory", subtype="DIR_PATH",
-                                         default="//", options={"SKIP_SAVE"})
+                                         default="//",
+                                         options={"SKIP_SAVE"} | properties._BLEND_RELATIVE)
 
     def draw(self, context):
         for name in ("band", "all_maps", "seed", "output"):

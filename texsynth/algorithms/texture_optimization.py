@@ -2,20 +2,22 @@
 
 Kwatra, Essa, Bobick & Kwatra 2005, "Texture optimization for example-based synthesis":
 the output X minimises the texture energy E_t(x; {z_p}) = sum_p ||x_p - z_p||^r over output
-neighbourhoods x_p on a grid of spacing w/4 (sec. 3), each z_p its nearest exemplar
-neighbourhood. Alternating (sec. 3.1):
+neighbourhoods x_p on a grid of spacing w/4, each z_p its nearest exemplar neighbourhood.
+Alternating:
 
     M-step: z_p = the exemplar patch nearest x_p (here PatchMatch, Barnes et al. 2009, on the
             torus: ``texsynth.blocks.patchmatch``);
     E-step: x = the weighted average of the overlapping z_p, weights w_p = ||x_p - z_p||^(r - 2),
-            r = 0.8 (IRLS for the robust energy, sec. 3.1);
+            r = 0.8 (IRLS for the robust energy);
 
 coarse to fine over resolution levels, and at each level over patch sizes from large to small
-(sec. 3.2: 32, 16, 8). Kaspar, Neubert, Lischinski, Pauly & Kopf 2015, "Self tuning texture
-optimization", sec. 4.2: a term that keeps the patch usage uniform, so the output does not repeat
-a few favourite patches; here each exemplar patch's distance gets
-``lambda * median(d) * max(0, n(z) / n_bar - 1)``, n(z) the uses of the exemplar patches around z
-and n_bar the uniform usage (at least 1).
+(the paper uses 32, 16, 8; here ``sizes`` of them ending at ``patch_size``), starting from
+random exemplar patches. Kaspar, Neubert, Lischinski, Pauly & Kopf 2015, "Self tuning texture
+optimization": a term that keeps the patch usage uniform, so the output does not repeat a few
+favourite patches. Its form here (ours, after the paper's occurrence penalty): each exemplar
+patch's distance gets ``lambda * median(d) * max(0, n(z) / n_bar - 1)``, n(z) the uses of the
+exemplar patches within a grid step of z, n_bar the uniform usage (at least 1), median(d) the
+median matching distance of the previous iteration.
 
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
@@ -70,7 +72,6 @@ def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, siz
     (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
     that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
     """
-    h, w, _ = exemplar.shape
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
     pyramid = [exemplar]
     for _ in range(n_levels - 1):
@@ -147,22 +148,25 @@ class _Grid:
 
 
 def _vote(z, nnf, weights, grid, unknown, fixed_image):
-    """E-step: the weighted average of the overlapping exemplar patches on every free pixel."""
+    """E-step: the weighted average of the overlapping exemplar patches on every free pixel
+    (one weighted bincount per channel over every patch pixel of every active patch)."""
     hh, ww = grid.shape
     c = z.shape[2]
-    flat_z = z.reshape(-1, c)
+    p = grid.p
+    u, v = np.divmod(np.arange(p * p), p)
     sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
-    wgt = weights[:, None]
-    total = np.zeros((hh * ww, c), np.float32)
-    norm = np.zeros(hh * ww, np.float32)
-    for u, v, target in grid.offsets():
-        total[target] += wgt * flat_z[(sr + u) * z.shape[1] + sc + v]
-        norm[target] += wgt[:, 0]
-    if unknown is None:
-        return (total / norm[:, None]).reshape(hh, ww, c)
-    image = fixed_image.reshape(-1, c).copy()
-    free = unknown.ravel()
-    image[free] = total[free] / norm[free, None]
+    target = (((grid.top[:, None] + u) % hh) * ww + (grid.left[:, None] + v) % ww).ravel()
+    colours = z.reshape(-1, c)[((sr[:, None] + u) * z.shape[1] + sc[:, None] + v).ravel()]
+    wgt = np.repeat(weights.astype(np.float64), p * p)
+    norm = np.bincount(target, wgt, minlength=hh * ww)
+    covered = norm > 0
+    if unknown is not None:
+        covered &= unknown.ravel()
+    image = (np.zeros((hh * ww, c), np.float32) if unknown is None
+             else fixed_image.reshape(-1, c).copy())
+    for k in range(c):
+        total = np.bincount(target, wgt * colours[:, k], minlength=hh * ww)
+        image[covered, k] = total[covered] / norm[covered]
     return image.reshape(hh, ww, c)
 
 
@@ -258,15 +262,15 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch
 
 
 def _memory(shape, width, height, params):
-    """The exemplar's patch descriptors (16 floats a position) and pyramid, per output pixel the
-    positions, image, vote sums, winners (about 14 + 6 C floats), and the grid's descriptors and
-    match (a pixel in 4: 16 + 6 floats). Building the descriptors gathers every exemplar patch
-    whole (p^2 C values a position, a few copies: tracemalloc measures about 12 p^2 C bytes), and
-    the votes and usage counts add about 100 + 32 C bytes an output pixel; tests/test_contract.py
-    holds the estimate above the measured peak."""
+    """Per exemplar pixel: its patch descriptors (DIMS floats) and pyramid; per output pixel:
+    positions, image, vote sums and winners (about 14 + 6 C floats) and the grid's share (a
+    patch every 4 pixels at the smallest size: descriptors, match, costs, DIMS + 8 floats).
+    Building the descriptors gathers every exemplar patch whole (p^2 C values a position, a few
+    copies: tracemalloc measures about 12 p^2 C bytes), and the votes and usage counts add about
+    100 + 32 C bytes an output pixel; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
-    per_exemplar = 4 * (16 + 2 * c) + 13 * params["patch_size"] ** 2 * c
-    per_output = 4 * (14 + 6 * c) + 4 * 22 / 4 * 4 + 96 + 32 * c
+    per_exemplar = 4 * (DIMS + 2 * c) + 13 * params["patch_size"] ** 2 * c
+    per_output = 4 * (14 + 6 * c) + 4 * (DIMS + 8) / 4 + 96 + 32 * c
     return per_exemplar * shape[0] * shape[1] + per_output * width * height
 
 
