@@ -19,7 +19,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from . import validation
+from . import budget, validation
 from .algorithms.texture_optimization import METHOD, optimize
 from .progress import Progress
 
@@ -95,6 +95,10 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
         raise ValueError(f"band must be between the patch size ({values['patch_size']}) and "
                          f"{widest} pixels (wider would change more than half of the "
                          f"{w} x {h} photo), got {band}")
+    what = f"making the {w} x {h} photo tileable"
+    validation.check_memory(METHOD.memory(a.shape, w, h, values), what)
+    budget.check_time(budget.predict(METHOD, a.shape, w, h, values), what,
+                      "try a smaller photo or a narrower band")
     report = Progress(progress)
     report(0.0, "Make tileable: starting")
 

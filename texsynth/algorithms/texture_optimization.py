@@ -267,10 +267,10 @@ def _memory(shape, width, height, params):
     patch every 4 pixels at the smallest size: descriptors, match, costs, DIMS + 8 floats).
     Building the descriptors gathers every exemplar patch whole (p^2 C values a position, a few
     copies: tracemalloc measures about 12 p^2 C bytes), and the votes and usage counts add about
-    100 + 32 C bytes an output pixel; tests/test_contract.py holds the estimate above the peak."""
+    400 + 32 C bytes an output pixel; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
     per_exemplar = 4 * (DIMS + 2 * c) + 13 * params["patch_size"] ** 2 * c
-    per_output = 4 * (14 + 6 * c) + 4 * (DIMS + 8) / 4 + 96 + 32 * c
+    per_output = 4 * (14 + 6 * c) + 4 * (DIMS + 8) / 4 + 400 + 32 * c
     return per_exemplar * shape[0] * shape[1] + per_output * width * height
 
 
