@@ -106,9 +106,10 @@ def test_the_material_panel_asks_for_a_method_that_copies_pixels():
     assert not layout.drawn
 
 
-def test_the_synthesis_panel_shows_predicted_time_and_memory_before_the_button(monkeypatch):
+def test_the_synthesis_panel_shows_predicted_time_and_memory_before_the_button(addon, monkeypatch):
     material_with(generated_image(noise(24, 32), name="colour"))
     settings = bpy.context.scene.texsynth
+    monkeypatch.setattr(addon.texsynth.budget, "_factor", 1.0)  # the reference machine's speed
     settings.method, settings.width, settings.height = "EFROS_LEUNG", 256, 256
     small = [t for t in _draw("TEXSYNTH_PT_synthesize").labels if t.startswith("About ")]
     settings.width = settings.height = 16384
