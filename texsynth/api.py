@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+import scipy.fft
 
 from . import validation
 from .progress import Progress
@@ -98,7 +99,8 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     report = Progress(progress)
     report(0.0, f"{m.label}: starting")
     rng = np.random.default_rng(seed)
-    out = m.function(a, width, height, rng, report, **values)
+    with scipy.fft.set_workers(-1):  # every core for the FFTs; results do not depend on it
+        out = m.function(a, width, height, rng, report, **values)
     positions = None
     if m.positions:
         out, positions = out
