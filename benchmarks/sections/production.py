@@ -6,6 +6,10 @@ peak resident memory (``ru_maxrss`` of the child, which sees numpy, FFTs and C c
 the run's alone. Efros-Leung is per pixel: it is timed on a small output from the same exemplar
 and its time at the production size is predicted (linear in the output pixels, a lower bound:
 measured growth is steeper), then refused, as the time budget would.
+
+Runs are kept in ``build/production/<tree>/`` (time, peak, output; ``<tree>`` is the git hash
+of the committed ``texsynth/`` folder), so an interrupted section picks up where it stopped when
+re-run on the same library code.
 """
 
 from __future__ import annotations
@@ -23,15 +27,15 @@ import numpy as np
 from texsynth import metrics
 from texsynth.io import read_image
 
-from ..context import SHARED_TEXTURES
+from ..context import REPO, SHARED_TEXTURES
 
 ORDER = 35
 TITLE = "Production sizes: large photos, 2048 and 4096 outputs"
 SEED = 0
 LARGE = SHARED_TEXTURES / "large"
 #: (file below shared/textures/large, category): one stochastic, one regular (bricks).
-PHOTOS = (("torcs-data/gravel_pebbles.png", "stochastic"),
-          ("ufoai-textures/brick_wall.png", "regular"))
+PHOTOS = (("ufoai-textures/brick_wall.png", "regular"),
+          ("torcs-data/gravel_pebbles.png", "stochastic"))
 EXEMPLAR = 1024  # photos larger than this are block-averaged down to it
 SIDE = 2048
 BIG = 4096
@@ -39,9 +43,9 @@ BIG_METHODS = ("heeger_bergen", "multiscale_mrf")
 METHODS = ("heeger_bergen", "multiscale_mrf", "de_bonet", "cooccurrence", "composite")
 PEER = "resynthesizer"
 #: Efros-Leung is timed at this output side and predicted at ``SIDE``.
-PROBE = 32
+PROBE = 16
 CROP = 512  # contact-sheet crops, full resolution
-PATCH_SAMPLES = 300  # sampled output patches for the patch distance (each searched exactly)
+PATCH_SAMPLES = 200  # sampled output patches for the patch distance (each searched exactly)
 
 
 def load(path: Path) -> np.ndarray:
@@ -71,13 +75,31 @@ def _child(photo: str, method: str, side: int, out: str) -> None:
     print(json.dumps({"seconds": seconds}), flush=True)
 
 
+def _cache() -> Path:
+    """Where runs of this library code are kept (a fresh temporary folder when ``texsynth/`` has
+    uncommitted changes)."""
+    head = subprocess.run(["git", "rev-parse", "--short", "HEAD:texsynth"], capture_output=True,
+                          text=True, cwd=REPO, check=False).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "texsynth"],
+                           capture_output=True, text=True, cwd=REPO, check=False).stdout.strip()
+    if not head or dirty:
+        return Path(tempfile.mkdtemp(prefix="production-"))
+    path = REPO / "build" / "production" / head
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
 def _run(photo: str, method: str, side: int, tmp: Path) -> dict:
-    """A child run: its time, peak RSS (MiB) and output, or the error."""
-    out = tmp / f"{Path(photo).stem}_{method}_{side}.npy"
+    """A child run: its time, peak RSS (MiB) and output, or the error (kept in ``tmp``)."""
+    stem = tmp / f"{Path(photo).stem}_{method}_{side}"
+    out, record = stem.with_suffix(".npy"), stem.with_suffix(".json")
+    if record.exists():
+        result = json.loads(record.read_text())
+        return {**result, "image": np.load(out)} if "seconds" in result else result
     with tempfile.TemporaryFile() as err:
         proc = subprocess.Popen([sys.executable, "-m", "benchmarks.sections.production", "RUN",
                                  photo, method, str(side), str(out)], stdout=subprocess.PIPE,
-                                stderr=err, cwd=Path(__file__).resolve().parents[2])
+                                stderr=err, cwd=REPO)
         stdout = proc.stdout.read()
         _, status, usage = os.wait4(proc.pid, 0)
         proc.returncode = os.waitstatus_to_exitcode(status)
@@ -86,9 +108,12 @@ def _run(photo: str, method: str, side: int, tmp: Path) -> dict:
     rss = usage.ru_maxrss / 1024
     if proc.returncode:
         tail = stderr.decode(errors="replace").strip().splitlines()[-1:] or ["?"]
-        return {"error": tail[0], "rss": rss}
-    result = json.loads(stdout.decode().strip().splitlines()[-1])
-    return {"seconds": result["seconds"], "rss": rss, "image": np.load(out)}
+        result = {"error": tail[0], "rss": rss}
+    else:
+        result = {"seconds": json.loads(stdout.decode().strip().splitlines()[-1])["seconds"],
+                  "rss": rss}
+    record.write_text(json.dumps(result))
+    return {**result, "image": np.load(out)} if "seconds" in result else result
 
 
 def _predict_efros_leung(photo: str, tmp: Path) -> dict:
@@ -133,48 +158,47 @@ def run(ctx) -> str:
     table = ["| photo | method | size | time (s) | ratio | peak (MiB) | seam | patch | copy | "
              "structure |", "|---|---|---|---|---|---|---|---|---|---|"]
     sheets = []
-    with tempfile.TemporaryDirectory() as tmp_name:
-        tmp = Path(tmp_name)
-        for p, (photo, category) in enumerate(PHOTOS):
-            exemplar = load(LARGE / photo)
-            short = Path(photo).stem
-            natural = metrics.self_distance(exemplar)
-            table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | "
-                         f"{natural['patch_distance']:.2f} | {natural['copy_share']:.2f} | "
-                         f"{natural['structure_distance']:.3f} |")
-            runs = [(m, SIDE) for m in names] + ([(m, BIG) for m in BIG_METHODS] if p == 0
-                                                   else [])
-            peer_time = None
-            crops = {}
-            for method, side in runs:
-                print(f"   {short} {method} {side}", flush=True)
-                r = _run(photo, method, side, tmp)
-                if "error" in r:
-                    table.append(f"| {short} | {method} | {side} | failed: {r['error']} | | "
-                                 f"{r['rss']:.0f} | | | | |")
-                    continue
-                if method == PEER:
-                    peer_time = r["seconds"]
-                q = _quality(exemplar, r["image"])
-                ratio = f"{r['seconds'] / peer_time:.2f}" if peer_time and side == SIDE else ""
-                table.append(
-                    f"| {short} | {method} | {side} | {r['seconds']:.0f} | {ratio} | "
-                    f"{r['rss']:.0f} | {q['seam']:.2f} | {q['patch']:.2f} | {q['copy']:.2f} | "
-                    f"{q['structure']:.3f} |")
-                if side == SIDE:
-                    crops[method] = _crop(r["image"])
-            el = _predict_efros_leung(photo, tmp)
-            if "error" in el:
-                table.append(f"| {short} | efros_leung | {SIDE} | failed: {el['error']} "
-                             "| | | | | | |")
-            else:
-                ratio = f"{el['predicted'] / peer_time:.0f}" if peer_time else ""
-                table.append(f"| {short} | efros_leung | {SIDE} | refused: predicted "
-                             f"{el['predicted']:.0f} ({el['probe']:.1f} at {PROBE}) | {ratio} "
-                             "| | | | | |")
-            row = [exemplar[:CROP, :CROP]] + [crops.get(m) for m in names]
-            sheets.append((short, ctx.contact_sheet(f"production_{short}.png",
-                                                    ["photo", *names], [row], cell=CROP)))
+    tmp = _cache()
+    for p, (photo, category) in enumerate(PHOTOS):
+        exemplar = load(LARGE / photo)
+        short = Path(photo).stem
+        natural = metrics.self_distance(exemplar)
+        table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | "
+                     f"{natural['patch_distance']:.2f} | {natural['copy_share']:.2f} | "
+                     f"{natural['structure_distance']:.3f} |")
+        runs = [(m, SIDE) for m in names] + ([(m, BIG) for m in BIG_METHODS] if p == 0
+                                               else [])
+        peer_time = None
+        crops = {}
+        for method, side in runs:
+            print(f"   {short} {method} {side}", flush=True)
+            r = _run(photo, method, side, tmp)
+            if "error" in r:
+                table.append(f"| {short} | {method} | {side} | failed: {r['error']} | | "
+                             f"{r['rss']:.0f} | | | | |")
+                continue
+            if method == PEER:
+                peer_time = r["seconds"]
+            q = _quality(exemplar, r["image"])
+            ratio = f"{r['seconds'] / peer_time:.2f}" if peer_time and side == SIDE else ""
+            table.append(
+                f"| {short} | {method} | {side} | {r['seconds']:.0f} | {ratio} | "
+                f"{r['rss']:.0f} | {q['seam']:.2f} | {q['patch']:.2f} | {q['copy']:.2f} | "
+                f"{q['structure']:.3f} |")
+            if side == SIDE:
+                crops[method] = _crop(r["image"])
+        el = _predict_efros_leung(photo, tmp)
+        if "error" in el:
+            table.append(f"| {short} | efros_leung | {SIDE} | failed: {el['error']} "
+                         "| | | | | | |")
+        else:
+            ratio = f"{el['predicted'] / peer_time:.0f}" if peer_time else ""
+            table.append(f"| {short} | efros_leung | {SIDE} | refused: predicted "
+                         f"{el['predicted']:.0f} ({el['probe']:.1f} at {PROBE}) | {ratio} "
+                         "| | | | | |")
+        row = [exemplar[:CROP, :CROP]] + [crops.get(m) for m in names]
+        sheets.append((short, ctx.contact_sheet(f"production_{short}.png",
+                                                ["photo", *names], [row], cell=CROP)))
     lines += table + [""]
     for short, path in sheets:
         lines += [f"![{short}: photo crop, then {', '.join(names)}]({path})", "",
