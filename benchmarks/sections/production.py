@@ -1,10 +1,11 @@
 """Production sizes (issue 18): every method and Resynthesizer on large photos, 1024 -> 2048,
 and 4096 for the two fast methods; time, peak resident memory, quality, full-resolution crops.
 
-Every run is its own subprocess (``python -m benchmarks.sections.production RUN ...``), so its
-peak resident memory (``ru_maxrss`` of the child, which sees numpy, FFTs and C code alike) is
-the run's alone. Efros-Leung is per pixel: it is timed on a small output from the same exemplar
-and its time at the production size is predicted (linear in the output pixels, a lower bound:
+Every run is its own subprocess (``python -m benchmarks.sections.production RUN ...``), which
+reports its own peak resident memory (``VmHWM``, which sees numpy, FFTs and C code alike; not
+the parent's ``ru_maxrss`` of the child, which starts from the parent's size at the fork).
+Efros-Leung is per pixel: it is timed on a small output from the same exemplar and its time
+at the production size is predicted (linear in the output pixels, a lower bound:
 measured growth is steeper), then refused, as the time budget would.
 
 Runs are kept in ``build/production/<tree>/`` (time, peak, output; ``<tree>`` is the git hash
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -71,8 +73,9 @@ def _child(photo: str, method: str, side: int, out: str) -> None:
     else:
         image = texsynth.synthesize(exemplar, side, side, method=method, seed=SEED)
     seconds = time.perf_counter() - start
+    hwm = int(re.search(r"VmHWM:\s+(\d+)", Path("/proc/self/status").read_text()).group(1))
     np.save(out, np.asarray(image, np.float32)[:, :, :3])
-    print(json.dumps({"seconds": seconds}), flush=True)
+    print(json.dumps({"seconds": seconds, "rss": hwm / 1024}), flush=True)
 
 
 def _cache() -> Path:
@@ -95,23 +98,25 @@ def _run(photo: str, method: str, side: int, tmp: Path) -> dict:
     out, record = stem.with_suffix(".npy"), stem.with_suffix(".json")
     if record.exists():
         result = json.loads(record.read_text())
-        return {**result, "image": np.load(out)} if "seconds" in result else result
+        if method == PEER and "peak" not in result:  # an older record: its time, no peak
+            result["rss"] = float("nan")
+        if "peak" in result or "error" in result or method == PEER:
+            return {**result, "image": np.load(out)} if "seconds" in result else result
     with tempfile.TemporaryFile() as err:
         proc = subprocess.Popen([sys.executable, "-m", "benchmarks.sections.production", "RUN",
                                  photo, method, str(side), str(out)], stdout=subprocess.PIPE,
                                 stderr=err, cwd=REPO)
         stdout = proc.stdout.read()
-        _, status, usage = os.wait4(proc.pid, 0)
+        _, status, _ = os.wait4(proc.pid, 0)
         proc.returncode = os.waitstatus_to_exitcode(status)
         err.seek(0)
         stderr = err.read()
-    rss = usage.ru_maxrss / 1024
     if proc.returncode:
         tail = stderr.decode(errors="replace").strip().splitlines()[-1:] or ["?"]
-        result = {"error": tail[0], "rss": rss}
+        result = {"error": tail[0], "rss": float("nan")}
     else:
-        result = {"seconds": json.loads(stdout.decode().strip().splitlines()[-1])["seconds"],
-                  "rss": rss}
+        child = json.loads(stdout.decode().strip().splitlines()[-1])
+        result = {"seconds": child["seconds"], "rss": child["rss"], "peak": "VmHWM"}
     record.write_text(json.dumps(result))
     return {**result, "image": np.load(out)} if "seconds" in result else result
 
@@ -146,7 +151,7 @@ def run(ctx) -> str:
         f"{EXEMPLAR} x {EXEMPLAR} RGB; outputs {SIDE} x {SIDE} (and {BIG} x {BIG} for "
         f"{', '.join(BIG_METHODS)} on the first photo); seed {SEED}, default parameters, one run "
         "each, every run in its own process. Time: wall clock; ratio: to Resynthesizer's time on "
-        "the same photo in this run. Peak: the child process's peak resident memory (MiB, "
+        "the same photo in this run. Peak: the run's process's peak resident memory (VmHWM, MiB, "
         "interpreter and imports included, about 100 MiB). Seam: seam ratio (1 tiles); patch: "
         f"median nearest-exemplar-patch distance of {PATCH_SAMPLES} sampled 8 x 8 patches (lower "
         "is closer to the photo; copy: share of verbatim patches); structure: coherence-"
@@ -166,8 +171,7 @@ def run(ctx) -> str:
         table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | "
                      f"{natural['patch_distance']:.2f} | {natural['copy_share']:.2f} | "
                      f"{natural['structure_distance']:.3f} |")
-        runs = [(m, SIDE) for m in names] + ([(m, BIG) for m in BIG_METHODS] if p == 0
-                                               else [])
+        runs = ([(m, BIG) for m in BIG_METHODS] if p == 0 else []) + [(m, SIDE) for m in names]
         peer_time = None
         crops = {}
         for method, side in runs:
@@ -181,6 +185,8 @@ def run(ctx) -> str:
                 peer_time = r["seconds"]
             q = _quality(exemplar, r["image"])
             ratio = f"{r['seconds'] / peer_time:.2f}" if peer_time and side == SIDE else ""
+            if side == BIG:
+                ratio = "(4096)"
             table.append(
                 f"| {short} | {method} | {side} | {r['seconds']:.0f} | {ratio} | "
                 f"{r['rss']:.0f} | {q['seam']:.2f} | {q['patch']:.2f} | {q['copy']:.2f} | "
