@@ -145,3 +145,14 @@ def test_bad_input_is_refused_clearly(scene):
     flat = np.full((32, 32, 3), 0.5, np.float32)
     with pytest.raises(ValueError, match="single class"):
         texsynth.synthesize(flat, 16, 16, method="composite")
+
+
+def test_large_outputs_fill_from_a_half_size_composite_and_still_tile(monkeypatch):
+    img, truth = _two_colours((64, 64))
+    direct = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
+    monkeypatch.setattr(composite, "COARSE_PIXELS", 40 * 40)  # 96 x 64 is "production size"
+    a = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
+    b = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
+    assert np.array_equal(a.image, b.image) and not np.array_equal(a.image, direct.image)
+    assert a.image.shape == (64, 96, 3) and seam_ratio(a.image) < 1.3
+    assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99

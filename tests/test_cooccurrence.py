@@ -179,3 +179,16 @@ def test_bad_parameters_are_refused():
         texsynth.synthesize(np.zeros((16, 16)), 8, 8, method="cooccurrence", max_offset=0)
     with pytest.raises(ValueError, match="classes"):
         co.label_levels(13)
+
+
+def test_large_outputs_relax_from_a_half_size_synthesis_and_still_tile(monkeypatch):
+    import texsynth.algorithms.cooccurrence as method
+
+    photo = ramp_photo((64, 64), seed=1)
+    direct = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=2, **FAST)
+    monkeypatch.setattr(method, "COARSE_PIXELS", 48 * 48)  # 128 x 96 is now "production size"
+    a = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=2, **FAST)
+    b = texsynth.synthesize(photo, 128, 96, method="cooccurrence", seed=2, **FAST)
+    assert np.array_equal(a, b) and not np.array_equal(a, direct)
+    assert a.shape == (96, 128, 3) and seam_ratio(a) < 1.3
+    assert np.abs(a.mean(axis=(0, 1)) - photo.mean(axis=(0, 1))).max() < 0.05

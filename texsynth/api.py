@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+import scipy.fft
 
 from . import budget, validation
 from .progress import Progress
@@ -103,7 +104,8 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     rng = np.random.default_rng(seed)
     scale = validation.magnitude_scale(a)
     work = a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
-    out = m.function(work, width, height, rng, report, **values)
+    with scipy.fft.set_workers(-1):  # every core for the FFTs; results do not depend on it
+        out = m.function(work, width, height, rng, report, **values)
     positions = None
     if m.positions:
         out, positions = out

@@ -176,7 +176,8 @@ class BallSampler:
             k = min(k, self.tree.n)
             larger = []
             for batch in np.array_split(todo, max(1, -(-len(todo) * k // self.batch))):
-                dist, idx = self.tree.query(queries[batch], k=k, distance_upper_bound=bound)
+                dist, idx = self.tree.query(queries[batch], k=k, distance_upper_bound=bound,
+                                             workers=-1)
                 inside = dist.reshape(len(batch), k) <= self.radius
                 c = inside.sum(axis=1)
                 complete = (c < k) | (k == self.tree.n)

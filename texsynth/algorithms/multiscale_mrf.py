@@ -23,7 +23,11 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - a neighbour outside the exemplar costs w (D + |O - mean|^2) instead of w D (D = the maximal
   difference), which lets eq. 3 be one dot product; such candidates lose either way;
 - "placed" neighbours are those visited at least once on this level (w > 0); the random
-  positions of the initialisation propose no continuation, the ``random_candidates`` do that job.
+  positions of the initialisation propose no continuation, the ``random_candidates`` do that job;
+- production sizes (k-coherence refinement, after Tong et al. 2002 and Ashikhmin 2001): a level
+  whose grid has more than ``REFINE_PIXELS`` pixels only refines the coarser level's positions:
+  its candidates are the continuations of the 8 nearest neighbours alone (no random ones), and
+  it is visited ``REFINE_VISITS`` times instead of T; the distance still uses the whole disk.
 """
 
 from __future__ import annotations
@@ -36,7 +40,14 @@ from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.search import Rows, best_candidate, disk_offsets, exemplar_neighbours
 from ..registry import Method, Param, register
 
-__all__ = ["multiscale_mrf", "METHOD"]
+__all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS"]
+
+#: A level with a grid larger than this (pixels) refines with coherent candidates only.
+REFINE_PIXELS = 1024 * 1024
+#: Visits per pixel on such a level.
+REFINE_VISITS = 2
+#: Neighbours whose continuations a refining level proposes (the 3 x 3 ring: nearest first).
+REFINE_PROPOSERS = 8
 
 
 class _Level:
@@ -50,7 +61,7 @@ class _Level:
     #: Output pixels whose candidates are scored at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
-    def __init__(self, exemplar, offsets, step, wrap, random_candidates):
+    def __init__(self, exemplar, offsets, step, wrap, random_candidates, proposers=None):
         h, w, c = exemplar.shape
         colours = exemplar.reshape(h * w, c)
         centred = exemplar - colours.mean(axis=0)
@@ -68,6 +79,7 @@ class _Level:
         self.dv = (step * offsets[:, 1]).astype(np.int32)
         self.offsets = offsets
         self.random_candidates = random_candidates
+        self.proposers = k if proposers is None else min(proposers, k)
 
     def visit(self, source, confidence, rows, cols, rng):
         """One visit of the pixels (rows, cols), none in another's neighbourhood: each moves to
@@ -103,7 +115,7 @@ class _Level:
         else:
             ok = (pr >= 0) & (pr < h) & (pc >= 0) & (pc < w) & (nw > 0)
             cand = np.where(ok, pr * w + pc, none)
-        cand = np.concatenate([cand, extra], axis=1)
+        cand = np.concatenate([cand[:, :self.proposers], extra], axis=1)
         return best_candidate(self.table, cand, z, current, none)
 
 
@@ -117,9 +129,18 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
                          "radius or a larger exemplar")
     offsets = disk_offsets(radius)
     shapes = grid_shapes(width, height, level_count(exemplar.shape, width, height, radius, levels))
+
+    def refines(lv):
+        return shapes[lv][0] * shapes[lv][1] > REFINE_PIXELS
+
+    def make_level(lv):
+        if refines(lv):
+            return _Level(exemplar, offsets, 2 ** lv, exemplar_tiles, 0, REFINE_PROPOSERS)
+        return _Level(exemplar, offsets, 2 ** lv, exemplar_tiles, random_candidates)
+
     source = multigrid.synthesize_positions(
-        lambda lv: _Level(exemplar, offsets, 2 ** lv, exemplar_tiles, random_candidates),
-        h * w, shapes, visits, rng, progress)
+        make_level, h * w, shapes,
+        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress)
     positions = np.stack(np.divmod(source, w), axis=2).astype(np.int32)
     return exemplar.reshape(h * w, c)[source], positions
 

@@ -57,10 +57,12 @@ def random_positions(shape, n, rng) -> np.ndarray:
     return rng.permutation(pool)[:size].reshape(shape)
 
 
-def synthesize_positions(make_level: Callable[[int], object], n: int, shapes, visits: int,
-                         rng: np.random.Generator, progress: Progress) -> np.ndarray:
+def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
+                         visits: int | Callable[[int], int], rng: np.random.Generator,
+                         progress: Progress) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
-    coarse to fine; ``make_level(l)`` builds level l's distance (fig. 9)."""
+    coarse to fine; ``make_level(l)`` builds level l's distance (fig. 9); ``visits`` is T, or
+    T per level as ``visits(l)``."""
     n_levels = len(shapes)
     work = np.array([gh * gw for gh, gw in shapes], float)
     work /= work.sum()
@@ -69,15 +71,16 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes, vi
     source = random_positions(shapes[-1], n, rng)
     halves = np.zeros(shapes[-1], np.int16)
     for lv in reversed(range(n_levels)):
+        t = visits(lv) if callable(visits) else visits
         if lv < n_levels - 1:
             coarse = source
             source = random_positions(shapes[lv], n, rng)
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
-            halves[::2, ::2] = visits  # confidence 0.5
+            halves[::2, ::2] = t  # confidence 0.5
         level = make_level(lv)
         start = work[lv + 1:].sum()
-        relax(level, source, halves, visits, rng, progress.span(start, start + work[lv]), lv)
+        relax(level, source, halves, t, rng, progress.span(start, start + work[lv]), lv)
     return source
 
 

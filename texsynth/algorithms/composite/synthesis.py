@@ -40,7 +40,11 @@ Deviations, one line each:
   that blobs larger than ``max_offset`` stay within reach of the cliques;
 - the in-place selection runs on a window of the exemplar (at most ``selection_size`` a
   side) where class n is most frequent, treated as a torus;
-- the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted.
+- the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted;
+- production sizes (multiresolution relaxation, as ``texsynth.cooccurrence``): with
+  ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
+  filled at half size (exemplar, labels and output labels halved), upsampled, and relaxed from
+  there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise.
 """
 
 from __future__ import annotations
@@ -56,6 +60,7 @@ from ...api import synthesize as synthesize_method
 from ...blocks.color import ColorPCA
 from ...progress import Progress
 from ...registry import Param, get_method, methods
+from ..cooccurrence import COARSE_PIXELS, REFINE_SWEEPS
 from ..cooccurrence import METHOD as CLIQUE_MODEL
 from ..cooccurrence import model as co
 from ..cooccurrence.cliques import Relaxation, Term, difference_histograms, half_offsets
@@ -249,10 +254,13 @@ def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int],
 
 
 def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
-                       max_offset, threshold, max_cliques, levels, sweeps, selection_size):
-    """Section 4: every PCA component, every class in ``order``, with interactions."""
+                       max_offset, threshold, max_cliques, levels, sweeps, selection_size,
+                       start=None):
+    """Section 4: every PCA component, every class in ``order``, with interactions; each
+    region relaxed from noise, or from the image ``start`` (the output's size) when given."""
     pca = ColorPCA.fit(x)
     comp = pca.forward(x)
+    initial = None if start is None else pca.forward(start)
     lo, hi = comp.min(axis=(0, 1)), comp.max(axis=(0, 1))
     width = max(float(hi[0] - lo[0]), 1e-6) / levels
     channels = x.shape[2]
@@ -287,7 +295,11 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                                   co.STEP, part.span(0.0, 0.4))
             # synthesis of class n in the output, earlier classes in place, later ones 0
             region = out_labels == n
-            synth[region] = rng.choice(levels_k, size=int(region.sum()), p=singleton)
+            if initial is None:
+                synth[region] = rng.choice(levels_k, size=int(region.sum()), p=singleton)
+            else:
+                synth[region] = co.quantize(initial[:, :, k][region], lo[k],
+                                            lo[k] + g * width, g)
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
                                out_labels, n, co.STEP)
             for s in range(sweeps):
@@ -298,6 +310,31 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
         dither = rng.random(synth.shape, dtype=np.float32)
         out[:, :, k] = lo[k] + (synth + dither) * np.float32(width)
     return np.clip(pca.inverse(out), x.min(axis=(0, 1)), x.max(axis=(0, 1)))
+
+
+def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_distance,
+                         max_offset, threshold, max_cliques, levels, sweeps, selection_size):
+    """:func:`_fill_cooccurrence`, from a half-size fill (recursively) above ``COARSE_PIXELS``
+    output pixels, when halving keeps every class of the exemplar and the output."""
+    (h, w), (height, width) = x.shape[:2], out_labels.shape
+    classes = int(max(labels.max(), out_labels.max())) + 1
+    start = None
+    if width * height > COARSE_PIXELS and min(h, w) >= 64 and height % 2 == width % 2 == 0:
+        half_lab, half_out = _downscale(labels, 2, classes), _downscale(out_labels, 2, classes)
+        if (set(np.unique(half_lab)) == set(np.unique(labels))
+                and set(np.unique(half_out)) == set(np.unique(out_labels))):
+            half = x[:h // 2 * 2, :w // 2 * 2].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
+            coarse = _fill_coarse_to_fine(half, half_lab, half_out, order, rng,
+                                          report.span(0.0, 0.4), interaction_distance,
+                                          max_offset, threshold, max_cliques, levels, sweeps,
+                                          selection_size)
+            start = ndimage.zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
+                                 prefilter=False)
+            sweeps = min(sweeps, REFINE_SWEEPS)
+            report = report.span(0.4, 1.0)
+    return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
+                              max_offset, threshold, max_cliques, levels, sweeps,
+                              selection_size, start)
 
 
 def _inscribed_square(mask: np.ndarray) -> tuple[slice, slice, int]:
@@ -418,9 +455,9 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     fill_part = report.span(0.2, 1.0)
     fallbacks = []
     if fill == "cooccurrence":
-        image = _fill_cooccurrence(x, lab, out_lab, order, rng, fill_part, interaction_distance,
-                                   max_offset, threshold, max_cliques, levels, sweeps,
-                                   selection_size)
+        image = _fill_coarse_to_fine(x, lab, out_lab, order, rng, fill_part,
+                                     interaction_distance, max_offset, threshold, max_cliques,
+                                     levels, sweeps, selection_size)
     else:
         method = get_method(fill)
         image = np.zeros((height, width, x.shape[2]), np.float32)

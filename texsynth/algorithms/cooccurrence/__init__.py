@@ -6,9 +6,17 @@ Everything of the method lives in this package:
 - ``model.py``: clique-type selection (steps 1-7), the model and its file, synthesis from it;
 - here: the registered method (fit, then synthesize from the model) and the public names
   ``fit``, ``synthesize`` and ``Model`` (fit once, synthesize at any size without the exemplar).
+
+Deviation (production sizes, multiresolution relaxation): an output of more than
+``COARSE_PIXELS`` pixels is first synthesized at half size from the exemplar block-averaged by 2
+(recursively), upsampled (bilinear, on the torus), and relaxed from there for ``REFINE_SWEEPS``
+sweeps instead of ``sweeps`` from noise: the coarse level lays out the large scales, the fine
+sweeps restore the fine-scale statistics.
 """
 
 from __future__ import annotations
+
+from scipy.ndimage import zoom
 
 from ... import costs
 from ...registry import Method, register
@@ -25,16 +33,32 @@ from .model import (
     synthesize,
 )
 
-__all__ = ["Model", "fit", "synthesize", "METHOD"]
+__all__ = ["Model", "fit", "synthesize", "METHOD", "COARSE_PIXELS", "REFINE_SWEEPS"]
+
+#: Outputs larger than this (pixels) start from a half-size synthesis.
+COARSE_PIXELS = 512 * 512
+#: Sweeps at a level that starts from the coarser level's result.
+REFINE_SWEEPS = 3
 
 
 def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                  threshold=THRESHOLD, max_cliques=MAX_CLIQUES, levels=LEVELS, sweeps=SWEEPS):
     """Fit the clique model of ``exemplar`` and synthesize (height, width, C) from it."""
-    model = fit(exemplar, max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
-                levels=levels, seed=rng, progress=progress.span(0.0, 0.3))
+    params = dict(max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
+                  levels=levels)
+    start = None
+    if width * height > COARSE_PIXELS and min(exemplar.shape[:2]) >= 32:
+        h, w = exemplar.shape[0] // 2, exemplar.shape[1] // 2
+        half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
+        coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
+                              progress.span(0.0, 0.4), sweeps=sweeps, **params)
+        start = zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
+                     prefilter=False)[:height, :width]
+        sweeps = min(sweeps, REFINE_SWEEPS)
+        progress = progress.span(0.4, 1.0)
+    model = fit(exemplar, seed=rng, progress=progress.span(0.0, 0.3), **params)
     return synthesize(model, width, height, seed=rng, sweeps=sweeps,
-                      progress=progress.span(0.3, 1.0))
+                      progress=progress.span(0.3, 1.0), start=start)
 
 
 def _memory(shape, width, height, params):

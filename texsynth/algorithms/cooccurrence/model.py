@@ -391,12 +391,14 @@ def fit_labels(labels: np.ndarray, classes: int, *, seed: int | np.random.Genera
 
 
 def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
-                       sweeps: int = SWEEPS, progress: Progress | None = None) -> np.ndarray:
+                       sweeps: int = SWEEPS, progress: Progress | None = None,
+                       start: np.ndarray | None = None) -> np.ndarray:
     """Marks (H, W) synthesized on a torus from one channel's model, starting from noise drawn
-    from its singleton histogram."""
+    from its singleton histogram, or from the marks ``start`` (H, W) when given."""
     progress = progress or Progress()
     p = np.asarray(channel.singleton, np.float64)
-    start = rng.choice(channel.levels, size=shape, p=p / p.sum())
+    if start is None:
+        start = rng.choice(channel.levels, size=shape, p=p / p.sum())
     relax = Relaxation(start, channel.levels, p, channel.terms(),
                        step=0 if channel.categorical else STEP)
     for i in range(sweeps):
@@ -407,10 +409,12 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
 
 def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.Generator = 0,
                sweeps: int = SWEEPS,
-               progress: Callable[[float, str], object] | None = None) -> np.ndarray:
+               progress: Callable[[float, str], object] | None = None,
+               start: np.ndarray | None = None) -> np.ndarray:
     """A periodic (height, width, C) float32 image from ``model`` alone, any size.
 
-    A label-map model gives int32 (height, width) labels instead.
+    A label-map model gives int32 (height, width) labels instead. ``start``: an image
+    (height, width, C) to relax from instead of noise (a coarser synthesis, upsampled).
     """
     if not isinstance(model, Model):
         raise ValueError(f"model must be a texsynth.cooccurrence.Model (from fit or Model.load), "
@@ -427,13 +431,18 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
     report = progress if isinstance(progress, Progress) else Progress(progress)
     c = len(model.channels)
     out = []
+    pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
+    initial = None if start is None else pca.forward(np.asarray(start, np.float32))
     for k, channel in enumerate(model.channels):
+        marks = None
+        if initial is not None:
+            g = len(channel.levels)
+            marks = channel.levels[quantize(initial[:, :, k], channel.lo, channel.hi, g)]
         marks = synthesize_channel(channel, (height, width), rng, sweeps,
-                                   report.span(k / c, (k + 1) / c))
+                                   report.span(k / c, (k + 1) / c), marks)
         out.append(channel.decode(marks, rng))
     if model.channels[0].categorical:
         return out[0]
-    pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
     image = pca.inverse(np.stack(out, axis=2))
     return np.clip(image, model.low, model.high).astype(np.float32)
 
