@@ -92,8 +92,8 @@ def _views(ctx):
     shared = {t.name: t.image for t in ctx.textures}
     made = manmade.textures()
     kinds = {name: kind for name, (_, kind) in made.items()}
-    views_a = plane_renders.make_views(list(shared), 3)
-    views_b = plane_renders.make_views(list(made), 3 if ctx.quick else 9, seed=16)
+    views_a = plane_renders.make_views(list(shared), 2)
+    views_b = plane_renders.make_views(list(made), 3 if ctx.quick else 6, seed=16)
     photos = plane_renders.render_views(views_a + views_b,
                                         {**shared, **{n: t for n, (t, _) in made.items()}})
     family = [FAMILIES[0]] * len(views_a) + [FAMILIES[1]] * len(views_b)

@@ -80,6 +80,7 @@ _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOI
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
 _ANISOTROPY_OK = 1.0  # RMS log-energy spread left after the fit up to which that floor holds
+_CONFLICT = 4.0      # sigmas: lines this far from the fit of an isotropic texture are not its own
 _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foreshortened axis most
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 
@@ -256,16 +257,22 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     else:
         fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
             _fit_unknown_focal(crit, float(max(small.shape)))
+        # One family on its own was wrong more often than right (foreshortened texels line up
+        # across the tilt): only two families enter.
         found = families(segments(small, mask), float(max(small.shape)))
+        found = found if len(found) == 2 else []
     # The texture's honest floor: wider the more its own anisotropy is left after the fit.
-    floor = _SYSTEMATIC * max(1.0, math.sqrt(max(_anisotropy(crit, fit), 0.0)) / _ANISOTROPY_OK)
+    anisotropy = math.sqrt(max(_anisotropy(crit, fit), 0.0))
+    floor = _SYSTEMATIC * max(1.0, anisotropy / _ANISOTROPY_OK)
     if found:  # the texture fit with the floors _result would state
-        prior = np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2, floor ** 2])
-        both = combine(LineCost(found), float(max(small.shape)), fit.p, fit.cov + prior,
+        prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
+                                   floor ** 2])
+        both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k)
-        if both is None:
-            found = []
+        if both is None or (anisotropy <= _ANISOTROPY_OK
+                            and _distance(both, fit, prior) > _CONFLICT):
+            found = []  # impossible lines, or lines that contradict an isotropic texture
         else:
             fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
                        fit.isotropy_based and not both.determined, both.focal_sd)
@@ -277,6 +284,16 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     estimated = focal is not None and focal_px is None
     return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
                    _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor)
+
+
+def _distance(both, fit: _Fit, prior: np.ndarray) -> float:
+    """Mahalanobis distance in (slant, tilt) of the combined estimate from the texture fit
+    (tilt mod 180 when the texture fit does not claim the receding direction)."""
+    a, b = angles_from_gradient(both.p), angles_from_gradient(fit.p)
+    turn = 180.0 if fit.ambiguous else 360.0
+    d = np.array([a[0] - b[0], (a[1] - b[1] + turn / 2) % turn - turn / 2])
+    d[1] *= math.sin(math.radians(max(a[0], b[0])))  # tilt matters as much as the slant allows
+    return float(math.sqrt(d @ np.linalg.inv(prior) @ d))
 
 
 def _anisotropy(crit: Criterion, fit: _Fit) -> float:
