@@ -27,6 +27,7 @@ from texsynth.plane import (
     camera_pose,
     estimate_plane,
     image_to_plane,
+    lines,
     normal_from_angles,
     plane_to_image,
     rectify,
@@ -261,3 +262,19 @@ def test_the_rectify_example_writes_the_frontal_photo_and_a_seamless_texture(tex
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 2 and "no texture" in run.stderr
     assert not (tmp_path / "b").exists()
+
+
+def test_segments_follow_straight_edges():
+    """Three dark lines drawn at known angles come back as segments along them."""
+    rng = np.random.default_rng(4)
+    image = 0.5 + 0.02 * rng.standard_normal((160, 200))
+    rows, cols = np.mgrid[0:160, 0:200]
+    x, y = cols - 99.5, 79.5 - rows  # centred, y up
+    for angle, offset in ((10.0, -40.0), (60.0, 0.0), (135.0, 30.0)):
+        a = math.radians(angle)
+        image[np.abs(-math.sin(a) * x + math.cos(a) * y - offset) < 1.5] = 0.1
+    found = lines.segments(image, np.ones(image.shape, bool))
+    long = found.length > 40
+    angles = np.degrees(np.arctan2(found.d[long, 1], found.d[long, 0])) % 180
+    for angle in (10.0, 60.0, 135.0):
+        assert np.min(np.abs((angles - angle + 90) % 180 - 90)) < 1.0, (angle, angles)

@@ -94,3 +94,10 @@ def test_files_that_do_not_say_give_none(tmp_path):
 def test_a_missing_file_is_refused(tmp_path):
     with pytest.raises(ValueError, match="no image file"):
         focal_px_from_file(tmp_path / "nope.jpg")
+
+
+def test_a_damaged_exif_block_says_nothing(tmp_path):
+    good = _jpeg(640, 480, {}, {FOCAL_35MM: (SHORT, 26)})
+    path = tmp_path / "damaged.jpg"
+    path.write_bytes(good[:30] + b"\xff" * 40 + good[70:])
+    assert focal_px_from_file(path) is None

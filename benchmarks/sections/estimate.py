@@ -20,6 +20,7 @@ where the estimate does not claim the receding direction (``tilt_ambiguous_180``
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections import defaultdict
 from pathlib import Path
@@ -91,8 +92,8 @@ def _views(ctx):
     shared = {t.name: t.image for t in ctx.textures}
     made = manmade.textures()
     kinds = {name: kind for name, (_, kind) in made.items()}
-    views_a = plane_renders.make_views(list(shared), 3 if ctx.quick else 6)
-    views_b = plane_renders.make_views(list(made), 3 if ctx.quick else 9, seed=16)
+    views_a = plane_renders.make_views(list(shared), 2)
+    views_b = plane_renders.make_views(list(made), 3 if ctx.quick else 6, seed=16)
     photos = plane_renders.render_views(views_a + views_b,
                                         {**shared, **{n: t for n, (t, _) in made.items()}})
     family = [FAMILIES[0]] * len(views_a) + [FAMILIES[1]] * len(views_b)
@@ -222,11 +223,13 @@ def _speed(items) -> str:
     family, view, photo = next(x for x in items if x[0] == FAMILIES[1] and x[1].slant > 30)
     big = np.stack([ndi.zoom(photo[:, :, c], (3000 / photo.shape[0], 4000 / photo.shape[1]),
                              order=1) for c in range(3)], axis=2).astype(np.float32)
-    times = []
-    for focal in (None, None, None):
-        tic = time.perf_counter()
-        plane.estimate_plane(big, focal_px=focal)
-        times.append(time.perf_counter() - tic)
-    return (f"**Speed**: {np.median(times):.2f} s median per estimate (focal length unknown) on a "
-            f"{big.shape[1]} x {big.shape[0]} float32 photo (12 MP), 3 runs (goal < 2 s on 2 "
-            "cores).")
+    wall, cpu = [], []
+    for _ in range(3):
+        tic, tic_cpu = time.perf_counter(), time.process_time()
+        plane.estimate_plane(big)
+        wall.append(time.perf_counter() - tic)
+        cpu.append(time.process_time() - tic_cpu)
+    return (f"**Speed** (focal length unknown, a {big.shape[1]} x {big.shape[0]} float32 photo: "
+            f"12 MP, 3 runs; goal < 2 s on 2 cores): {np.median(cpu):.2f} s of CPU time median, "
+            f"{np.median(wall):.2f} s wall-clock on this shared machine (load average "
+            f"{os.getloadavg()[0]:.1f}).")

@@ -4,9 +4,10 @@ The unknowns are theta = (p, w): the gradient p (:mod:`~texsynth.plane.geometry`
 focal length is unknown, w = side / f (0: orthographic), so v = p w / side. The texture fit
 enters as a Gaussian in theta with its own covariance (isotropy's bias on directional textures is
 already in it); the line families enter through their chi-square (:class:`~.lines.LineCost`),
-non-linear and possibly rank-deficient (one family: one constraint). The estimate minimises half
-their sum; its covariance is the inverse Hessian there, widened by the tension between the two
-when they disagree by more than their uncertainties.
+non-linear and possibly rank-deficient (one family: one constraint). Both are robust (Cauchy
+beyond three sigmas): a texture fit the lines contradict, or a stray family, stops pulling
+instead of dragging the estimate between them. The estimate minimises half their sum; its
+covariance is the inverse Hessian there, so directions that neither cue fixes stay uncertain.
 
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .lines import LineCost, Segments, vanishing_point
+from .lines import LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
 __all__ = ["Combined", "combine"]
@@ -28,6 +29,7 @@ _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no p
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
 _WEAK = 1e-3     # the texture's weight while the line noise is calibrated
 _MAX_P = 12.0    # |p| = tan(slant) bound of the search (slant 85 deg)
+_W_LIMIT = 4.0   # w = side / f at most: f >= a quarter of the longer side (127 deg across it)
 _DETERMINED = 3.0  # deg: lines alone fixing the slant this well make the estimate line-based
 
 
@@ -84,12 +86,20 @@ def _closed_form(found: list[Segments], side: float, focal: float | None) -> lis
     return [v * focal]
 
 
+def _inverse(hess: np.ndarray) -> np.ndarray:
+    """Covariance from a finite-difference Hessian: curvature taken by its size (the robust
+    losses and the differences can make a small one negative), none means unbounded."""
+    values, vectors = np.linalg.eigh(hess)
+    return (vectors / np.maximum(np.abs(values), 1e-9)) @ vectors.T
+
+
 def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
             focal_t: float | None, focal_sd_t: float | None, ambiguous_t: bool,
-            focal_given: float | None) -> Combined:
+            focal_given: float | None) -> Combined | None:
     """The plane that best explains the texture fit (p_t, cov_t, focal_t, focal_sd_t,
     ambiguous_t) and the line families in ``cost``; ``focal_given``: the known focal length
-    (analysis pixels), else it is estimated with the rest."""
+    (analysis pixels), else it is estimated with the rest. None when the best fit lies on the
+    search's bounds (a field of view over 127 degrees or a slant of 85)."""
     known = focal_given is not None
     cov_prior = _p_covariance(p_t, cov_t)
     theta_t = np.asarray(p_t, dtype=np.float64)
@@ -107,44 +117,45 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
             return p, p / focal_given
         return p, p * max(theta[2], 0.0) / side
 
-    def prior(theta):
+    def prior(theta):  # robust: a texture fit the lines contradict stops pulling
         d1, d2 = theta - theta_t, theta - mirror
-        return 0.5 * min(float(d1 @ info @ d1), float(d2 @ info @ d2))
+        return 0.5 * float(robust(min(float(d1 @ info @ d1), float(d2 @ info @ d2))))
 
     def lines(theta):
+        return 0.5 * cost(*split(theta))
+
+    def bounded(theta):  # the search's bounds: |p| <= _MAX_P, 0 <= w <= _W_LIMIT
         bound = max(0.0, math.hypot(theta[0], theta[1]) - _MAX_P) ** 2
         if not known:
-            bound += min(theta[2], 0.0) ** 2
-        return 0.5 * cost(*split(theta)) + 1e4 * bound
+            bound += min(theta[2], 0.0) ** 2 + max(theta[2] - _W_LIMIT, 0.0) ** 2
+        return lines(theta) + 1e4 * bound
 
     step = np.array([0.05, 0.05, 0.05][:len(theta_t)])
     starts = [theta_t, mirror, *_closed_form(cost.families, side, focal_given)]
-    alone = minimize(lambda th: lines(th) + _WEAK * prior(th), starts, step)
+    alone = minimize(lambda th: bounded(th) + _WEAK * prior(th), starts, step)
     cost.calibrate(*split(alone.x))
 
-    def total(theta):
+    def total(theta):  # the uncertainty is this one's curvature: a bound is no evidence
         return lines(theta) + prior(theta)
 
-    best = minimize(total, [*starts, alone.x], step)
+    best = minimize(lambda th: bounded(th) + prior(th), [*starts, alone.x], step)
     axis = best.x[:2] / max(np.linalg.norm(best.x[:2]), 1e-12)
-    other = minimize(lambda th: total(th) + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,
+    other = minimize(lambda th: bounded(th) + prior(th)
+                     + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,
                      [best.x * np.array([-1.0, -1.0, 1.0][:len(best.x)])], step)
     settled = other.fun - best.fun >= _DIRECTION
     chosen = best
     if not settled and not ambiguous_t and float(best.x[:2] @ p_t) < 0:
         chosen = other  # the lines cannot tell; the texture fit did
     theta = chosen.x
+    if math.hypot(theta[0], theta[1]) > 0.98 * _MAX_P or (not known and theta[2] > 0.98 * _W_LIMIT):
+        return None  # the lines ask for an impossible view: they are not the plane's
     hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
-    values, vectors = np.linalg.eigh(hess)
-    cov = (vectors / np.maximum(values, 1e-9)) @ vectors.T
-    tension = 2.0 * prior(theta) / len(theta)
-    cov *= max(1.0, tension)
+    cov = _inverse(hess)
     p = np.asarray(theta[:2], dtype=np.float64)
     cov_st = _st_covariance(p, cov[:2, :2])
-    alone = hessian(lines, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
-    weakest = float(np.linalg.eigvalsh(alone)[0])  # least-constrained combination of theta
-    determined = weakest > 0 and _st_covariance(p, np.linalg.inv(alone)[:2, :2])[0, 0] \
-        < _DETERMINED ** 2
+    alone = _inverse(hessian(lines, theta, np.maximum(1e-3, 0.01 * np.abs(theta))))
+    determined = _st_covariance(p, alone[:2, :2])[0, 0] < _DETERMINED ** 2
     if known:
         return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
     w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))

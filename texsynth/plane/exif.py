@@ -40,7 +40,10 @@ def focal_px_from_file(path) -> float | None:
     if not path.is_file():
         raise ValueError(f"no image file at '{path}'")
     with path.open("rb") as handle:
-        tags = exifread.process_file(handle, details=False, extract_thumbnail=False)
+        try:
+            tags = exifread.process_file(handle, details=False, extract_thumbnail=False)
+        except Exception:  # noqa: BLE001  (a damaged EXIF block says nothing; the photo is fine)
+            tags = {}
         stored = _stored_size(handle, tags)
     if stored is None:
         return None

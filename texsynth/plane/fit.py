@@ -47,8 +47,9 @@ class PlaneEstimate:
     ``tilt + 180`` explain the image equally. ``slant_uncertainty``, ``tilt_uncertainty`` and
     ``normal_uncertainty`` are one-sigma estimates in degrees; ``confidence`` in [0, 1] folds them
     with the texture's departure from the model (``anisotropy``, the RMS log-energy spread across
-    orientations after rectification: near 0.1 for isotropic textures, 0.5 and more for bricks or
-    weaves, where the isotropy assumption fails). ``line_families``: how many families of
+    orientations after rectification: about 0.6 to 1 for stochastic textures, 1 to 3.5 for bricks,
+    tiles and planks, where the isotropy assumption fails; beyond 1 it widens the uncertainty of
+    an estimate that rests on the texture). ``line_families``: how many families of
     straight lines (0, 1 or 2: mortar joints, tile edges, seams) entered the estimate.
     """
 
@@ -78,6 +79,8 @@ _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist i
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
+_ANISOTROPY_OK = 1.0  # RMS log-energy spread left after the fit up to which that floor holds
+_CONFLICT = 4.0      # sigmas: lines this far from the fit of an isotropic texture are not its own
 _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foreshortened axis most
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 
@@ -163,7 +166,7 @@ def _fit_known_focal(crit: Criterion, f: float) -> _Fit:
     def cost(p):
         return crit.homogeneity(p, p / f)[0]
 
-    fit = minimize(cost, _grid_starts(cost, 360.0), 0.05)
+    fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
     p, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f), fit,
                                               0.05)
     st = angles_from_gradient(p)
@@ -177,7 +180,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
     def cost(q):
         return crit.homogeneity(q, q / f_ref)[0]
 
-    fit = minimize(cost, _grid_starts(cost, 360.0), 0.05)
+    fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
     if math.hypot(*fit.x) < 1e-3:
         return _fit_isotropy(crit)
     q, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f_ref),
@@ -254,38 +257,63 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     else:
         fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
             _fit_unknown_focal(crit, float(max(small.shape)))
+        # One family on its own was wrong more often than right (foreshortened texels line up
+        # across the tilt): only two families enter.
         found = families(segments(small, mask), float(max(small.shape)))
-    if found:  # the texture fit with the floors _result would state (its honest uncertainty)
-        floor = np.diag([_SYSTEMATIC ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
-                         _SYSTEMATIC ** 2])
-        both = combine(LineCost(found), float(max(small.shape)), fit.p, fit.cov + floor,
+        found = found if len(found) == 2 else []
+    # The texture's honest floor: wider the more its own anisotropy is left after the fit.
+    anisotropy = math.sqrt(max(_anisotropy(crit, fit), 0.0))
+    floor = _SYSTEMATIC * max(1.0, anisotropy / _ANISOTROPY_OK)
+    if found:  # the texture fit with the floors _result would state
+        prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
+                                   floor ** 2])
+        both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k)
-        fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
-                   fit.isotropy_based and not both.determined, both.focal_sd)
+        if both is None or (anisotropy <= _ANISOTROPY_OK
+                            and _distance(both, fit, prior) > _CONFLICT):
+            found = []  # impossible lines, or lines that contradict an isotropic texture
+        else:
+            fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
+                       fit.isotropy_based and not both.determined, both.focal_sd)
+            floor = _SYSTEMATIC if both.determined else floor
     slant, tilt = angles_from_gradient(fit.p)
     if fit.focal is None:  # p and -p are the same orthographic view
         tilt %= 180.0
     focal = None if fit.focal is None else fit.focal * k
     estimated = focal is not None and focal_px is None
-    anisotropy = crit.isotropy(fit.p, np.zeros(2) if fit.focal is None else fit.p / fit.focal)
     return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
-                   anisotropy[1], fit.isotropy_based, method, size, len(found))
+                   _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor)
+
+
+def _distance(both, fit: _Fit, prior: np.ndarray) -> float:
+    """Mahalanobis distance in (slant, tilt) of the combined estimate from the texture fit
+    (tilt mod 180 when the texture fit does not claim the receding direction)."""
+    a, b = angles_from_gradient(both.p), angles_from_gradient(fit.p)
+    turn = 180.0 if fit.ambiguous else 360.0
+    d = np.array([a[0] - b[0], (a[1] - b[1] + turn / 2) % turn - turn / 2])
+    d[1] *= math.sin(math.radians(max(a[0], b[0])))  # tilt matters as much as the slant allows
+    return float(math.sqrt(d @ np.linalg.inv(prior) @ d))
+
+
+def _anisotropy(crit: Criterion, fit: _Fit) -> float:
+    """The raw isotropy criterion at the fit: the texture's own anisotropy left."""
+    return crit.isotropy(fit.p, np.zeros(2) if fit.focal is None else fit.p / fit.focal)[1]
 
 
 def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy, isotropy_based,
-            method, size, line_families) -> PlaneEstimate:
+            method, size, line_families, floor) -> PlaneEstimate:
     """The record, with uncertainties (one sigma, degrees) and confidence.
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
     errors of the stated sigmas; the tilt factor is 1 when tilt is only claimed mod 180.
     """
-    s_slant = math.hypot(math.sqrt(max(cov[0, 0], 0.0)), _SYSTEMATIC)
-    s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), _SYSTEMATIC))
+    s_slant = math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor)
+    s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), floor))
     if isotropy_based:
         s_slant = math.hypot(s_slant, _ISOTROPY_FLOOR)
     s_normal = math.hypot(s_slant, math.sin(math.radians(slant)) * s_tilt)
-    confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)
+    confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)  # floor: _SYSTEMATIC or wider
     confidence *= math.erf(30.0 / (s_tilt * math.sqrt(2.0)))
     n = normal_from_angles(slant, tilt)
     return PlaneEstimate(

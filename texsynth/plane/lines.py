@@ -38,6 +38,7 @@ _MIN_FAMILY = 6       # segments a family needs
 _MIN_SUPPORT = 0.75   # total length of a family, in image sides
 _OVER_CHANCE = 3.0    # ... and this many times what random directions would give
 _ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
+_ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 
 
 @dataclass(frozen=True)
@@ -211,9 +212,9 @@ def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
 
 
 class LineCost:
-    """Chi-square of a plane hypothesis against the families: each family's back-projected
-    directions parallel, two families orthogonal; noise per segment from :func:`_noise`,
-    scaled by the scatter left at the best fit (``calibrate``)."""
+    """Robust chi-square of a plane hypothesis against the families: each family's
+    back-projected directions parallel, two families orthogonal; noise per segment from
+    :func:`_noise`, scaled by the scatter left at the best fit (``calibrate``)."""
 
     def __init__(self, found: list[Segments]):
         self.families = found
@@ -248,18 +249,23 @@ class LineCost:
         return out, ortho
 
     def __call__(self, p: np.ndarray, v: np.ndarray) -> float:
+        """Robust chi-square: a segment or an orthogonality that misses by more than
+        ``_ROBUST`` sigmas (a stray segment, a false family) stops pulling."""
         residual, ortho = self.residuals(p, v)
-        chi2 = sum(float(((r / s) ** 2).sum()) for r, s in zip(residual, self.sigma,
-                                                                strict=True)) / self.scale
+        chi2 = sum(float(robust((r / s) ** 2 / self.scale).sum())
+                   for r, s in zip(residual, self.sigma, strict=True))
         if ortho is not None:
-            chi2 += (ortho / math.radians(_ORTHOGONAL_DEG)) ** 2
+            chi2 += float(robust((ortho / math.radians(_ORTHOGONAL_DEG)) ** 2))
         return chi2
 
     def calibrate(self, p: np.ndarray, v: np.ndarray) -> None:
-        """Scale the segments' noise so that their chi-square at (p, v) is its degrees of
-        freedom (never below the pixel noise of :func:`_noise`)."""
+        """Scale the segments' noise so that their median squared residual at (p, v) is that of
+        a chi-square with one degree of freedom (never below the pixel noise of :func:`_noise`)."""
         residual, _ = self.residuals(p, v)
-        chi2 = sum(float(((r / s) ** 2).sum()) for r, s in zip(residual, self.sigma,
-                                                                strict=True))
-        dof = max(sum(len(r) for r in residual) - len(residual) - 3, 1)
-        self.scale = max(1.0, chi2 / dof)
+        z2 = np.concatenate([(r / s) ** 2 for r, s in zip(residual, self.sigma, strict=True)])
+        self.scale = max(1.0, float(np.median(z2)) / 0.455)
+
+
+def robust(z2):
+    """Cauchy loss of squared standardised residuals: z^2 near 0, logarithmic beyond _ROBUST."""
+    return _ROBUST ** 2 * np.log1p(np.asarray(z2) / _ROBUST ** 2)
