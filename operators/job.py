@@ -8,6 +8,7 @@ thread only after the work succeeded: on error or cancel the file is unchanged.
 """
 
 import threading
+import time
 import traceback
 
 import bpy
@@ -36,6 +37,16 @@ class Job:
         self.result = None
         self.error = None
         self.cancelled = False
+        self.started = time.monotonic()
+
+    def time_left(self, now: float | None = None) -> str:
+        """The time still to go, extrapolated from the time so far and the fraction done
+        (" about 3 min left"), or "" until the fraction says enough (2 %)."""
+        if self.fraction < 0.02:
+            return ""
+        elapsed = (time.monotonic() if now is None else now) - self.started
+        left = elapsed * (1.0 - self.fraction) / self.fraction
+        return f", about {texsynth.budget.describe(left)} left"
 
     def run(self) -> None:
         function, args, kwargs = self._call
@@ -47,6 +58,7 @@ class Job:
             self.error = error
 
     def start(self) -> None:
+        self.started = time.monotonic()
         self._thread = threading.Thread(target=self.run, name="texsynth", daemon=True)
         self._thread.start()
 
@@ -106,7 +118,7 @@ class JobOperator:
         if not job.done:
             context.window_manager.progress_update(job.fraction)
             context.workspace.status_text_set(
-                f"TexSynth: {job.message} ({job.fraction:.0%}); Esc to cancel")
+                f"TexSynth: {job.message} ({job.fraction:.0%}{job.time_left()}); Esc to cancel")
             return {"PASS_THROUGH"}
         self._end_ui(context)
         return self._finish(job, self._plan)

@@ -288,3 +288,11 @@ def test_the_worker_thread_reports_progress_and_cancels(addon):
     job = job_class(run, noise(32, 32), 0, 24, **FAST)
     job.run()
     assert isinstance(job.error, ValueError) and job.result is None
+
+
+def test_a_long_run_tells_the_time_left_from_its_progress(addon):
+    job = addon.operators.job.Job(lambda progress: None)
+    job.started, job.fraction = 100.0, 0.01
+    assert job.time_left(now=101.0) == ""  # too early to say
+    job.fraction = 0.25
+    assert job.time_left(now=160.0) == ", about 3 min left"  # 60 s for a quarter: 180 s to go
