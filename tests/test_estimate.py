@@ -278,3 +278,15 @@ def test_segments_follow_straight_edges():
     angles = np.degrees(np.arctan2(found.d[long, 1], found.d[long, 0])) % 180
     for angle in (10.0, 60.0, 135.0):
         assert np.min(np.abs((angles - angle + 90) % 180 - 90)) < 1.0, (angle, angles)
+
+
+def test_a_telephoto_focal_length_reads_as_the_orthographic_view_it_is(texture):
+    """With a focal length of many image sides there is no perspective to read the slant from:
+    the estimate is the orthographic one, not a confident guess (issue 15: 70 deg at 0.95)."""
+    photo = photograph(texture, 50.0, 30.0)
+    plain = estimate_plane(photo)
+    for focal in (1e4, 1e5):
+        tele = estimate_plane(photo, focal_px=focal)
+        assert tele.focal_px is None and tele.tilt_ambiguous_180
+        assert (tele.slant, tele.tilt) == (plain.slant, plain.tilt)
+        assert abs(tele.slant - 50.0) < 6.0

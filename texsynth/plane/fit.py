@@ -83,6 +83,7 @@ _ANISOTROPY_OK = 1.0  # RMS log-energy spread left after the fit up to which tha
 _CONFLICT = 4.0      # sigmas: lines this far from the fit of an isotropic texture are not its own
 _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foreshortened axis most
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
+_TELEPHOTO = 12.0    # focal lengths above this many image sides leave no usable perspective
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -252,7 +253,10 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     mask = texture_mask(small)
     crit = Criterion(spectra(small, mask, _W_MAX, _WINDOW))
     found = []
-    if method == "isotropy":
+    # A telephoto view (field of view under about 5 degrees) has no perspective left to read
+    # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
+    telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
+    if method == "isotropy" or telephoto:
         fit = _fit_isotropy(crit)
     else:
         fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
