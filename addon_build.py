@@ -356,7 +356,8 @@ def compat() -> None:
         print(f"\n--- skipped: no Python {NEXT_PYTHON} for the core tests on Blender 5.1's stack")
         return
     python = _ensure_venv(REPO / f".venv-py{NEXT_PYTHON}",
-                          [f"numpy=={NEXT_NUMPY}", "pytest", *_wheels_here(NEXT_PYTHON)],
+                          [f"numpy=={NEXT_NUMPY}", "pytest", "hypothesis",
+                           *_wheels_here(NEXT_PYTHON)],
                           base=python_313)
     print(f"\n--- core on Python {NEXT_PYTHON}, numpy {NEXT_NUMPY}, bundled wheels ---",
           flush=True)
