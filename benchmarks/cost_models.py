@@ -4,9 +4,9 @@ For every method, a few sizes are run once (small: the whole takes a few minutes
 cores; run it when the machine is quiet: a loaded machine skews single short runs by 2-3x) and
 the measured seconds printed beside the prediction (``texsynth.budget.predict``:
 the method's ``cost`` times this machine's speed factor) and their ratio. The rows marked
-``fit`` are the sizes the coefficients in ``texsynth/costs.py`` were fitted on; the others
-check the prediction at sizes it was not fitted on. ``--fit`` also prints, per method, the
-least-squares scale that would make the predictions match the measurements on the fit rows.
+``fit`` are the sizes the coefficients of each method's ``_cost`` (in its module) were fitted on;
+the others check the prediction at sizes it was not fitted on. ``--fit`` also prints, per method,
+the least-squares scale that would make the predictions match the measurements on the fit rows.
 """
 
 from __future__ import annotations

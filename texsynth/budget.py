@@ -1,8 +1,11 @@
 """The time budget, beside the memory budget: refuse a run predicted to take too long.
 
 A method's ``cost(exemplar_shape, width, height, params)`` (``texsynth.registry.Method``)
-predicts its run time in seconds on the reference machine, from a cost model fitted to
-measured runs (``python -m benchmarks.cost_models`` prints predictions against measurements).
+predicts its run time in seconds on the reference machine. Each cost model lives with its
+method (``_cost`` in the method's module): it counts the work of the method's inner loops (the
+patch searches' matrix products, the pyramids' FFTs, the relaxations' gathers) and converts it
+to seconds with coefficients fitted to measured runs (``python -m benchmarks.cost_models``
+prints predictions against measurements); a prediction is good to about a factor of two.
 This machine's speed relative to the reference is measured once per process by a tiny
 calibration run (:func:`machine_factor`, about 0.1 s: the matrix products, FFTs and gathers the
 methods spend their time in), so a prediction is ``cost * machine_factor()``.

@@ -48,7 +48,6 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .. import costs
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
@@ -277,6 +276,17 @@ def _memory(shape, width, height, params):
     return per_pixel * width * height + per_exemplar_pixel * shape[0] * shape[1] + (24 << 20)
 
 
+def _cost(shape, width, height, params):
+    """Seconds on the reference machine (``texsynth.budget``). Per output location, a
+    parent-structure query of a kd-tree (about ``depth`` ancestors of K + 1 values per channel); per
+    exemplar location, the pyramids and the tree's build."""
+    h, w, c = shape
+    k, depth = params["orientations"], params["depth"]
+    spread = (1.0 + params["threshold"]) ** 2
+    return (0.03 + 9.0e-7 * width * height * spread * (1 + depth * (k + 1) * c / 15)
+            + 4.0e-7 * h * w * depth * (k + 1) * c)
+
+
 METHOD = register(Method(
     name="de_bonet",
     label="De Bonet",
@@ -295,5 +305,5 @@ METHOD = register(Method(
     ),
     min_exemplar=16,
     memory=_memory,
-    cost=costs.de_bonet,
+    cost=_cost,
 ))

@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import costs
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.search import Rows, best_candidate, disk_offsets, exemplar_neighbours
@@ -158,6 +157,17 @@ def _memory(shape, width, height, params):
     return exemplar + maps + batch + chunk
 
 
+def _cost(shape, width, height, params):
+    """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel (4/3 for
+    the coarser levels), each candidate's disk neighbourhood compared over C + 1 values; plus the
+    exemplar table of every level."""
+    h, w, c = shape
+    k = len(disk_offsets(params["radius"]))
+    candidates = params["random_candidates"] + 6
+    units = width * height * 4 / 3 * params["visits"] * k * (c + 1) * candidates
+    return 0.1 + 5.1e-9 * units + 2.0e-7 * h * w * k * c
+
+
 METHOD = register(Method(
     name="multiscale_mrf",
     label="Multiscale MRF",
@@ -179,6 +189,6 @@ METHOD = register(Method(
     ),
     min_exemplar=3,
     memory=_memory,
-    cost=costs.multiscale_mrf,
+    cost=_cost,
     positions=True,
 ))

@@ -274,9 +274,8 @@ def _memory(shape, width, height, params):
     return per_exemplar * shape[0] * shape[1] + per_output * width * height
 
 
-
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine (``texsynth.costs``): per EM iteration and patch size,
+    """Seconds on the reference machine (``texsynth.budget``): per EM iteration and patch size,
     a PatchMatch over the output and the votes, and the exemplar's patch descriptors (fitted on
     64-128 px exemplars to 128-384 px outputs at the defaults: within 10 % at 384)."""
     h, w, c = shape

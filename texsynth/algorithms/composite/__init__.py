@@ -15,10 +15,9 @@ Everything of the method lives in this package:
 
 from __future__ import annotations
 
-from ... import costs
 from ...registry import Method, register
 from ..cooccurrence import model as co
-from . import segmentation
+from . import segmentation, synthesis
 from .segmentation import CONTRAST
 from .synthesis import INTERACTION_DISTANCE, MIN_EXEMPLAR, PARAMS, Composite, memory, synthesize
 
@@ -48,5 +47,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=MIN_EXEMPLAR,
     memory=memory,
-    cost=costs.composite,
+    cost=synthesis.cost,
 ))

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 from scipy.ndimage import zoom
 
-from ... import costs
 from ...registry import Method, register
 from .model import (
     LEVELS,
@@ -32,6 +31,7 @@ from .model import (
     fit,
     synthesize,
 )
+from .model import cost as model_cost
 
 __all__ = ["Model", "fit", "synthesize", "METHOD", "COARSE_PIXELS", "REFINE_SWEEPS"]
 
@@ -80,5 +80,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=8,
     memory=_memory,
-    cost=costs.cooccurrence,
+    cost=model_cost,
 ))
