@@ -62,6 +62,19 @@ _HWM = Path("/proc/self/status")
 _child_peak_kib = 0
 
 
+def fmt(x, digits=3) -> str:
+    """A figure for a table: ``n/a`` for None or NaN."""
+    return "n/a" if x is None or x != x else f"{x:.{digits}f}"
+
+
+def timed(fn):
+    """(seconds, result) of ``fn()``: bare wall time (no tracemalloc, which slows numpy code but
+    not the peers' C)."""
+    start = time.perf_counter()
+    result = fn()
+    return time.perf_counter() - start, result
+
+
 def _pin_mmap_threshold() -> None:
     with contextlib.suppress(OSError, AttributeError):
         libc = ctypes.CDLL("libc.so.6")

@@ -17,6 +17,7 @@ import numpy as np
 
 import texsynth
 from benchmarks import peers
+from benchmarks.context import fmt, timed
 from texsynth import metrics
 from texsynth.blocks.search import gaussian_weights, square_offsets
 
@@ -36,17 +37,6 @@ def _resynthesizer():
     return peer if peer.missing is None else None
 
 
-def _fmt(x, digits=3):
-    return "n/a" if x is None or x != x else f"{x:.{digits}f}"
-
-
-def _timed(fn):
-    """Bare wall time (no tracemalloc, which slows numpy code but not Resynthesizer's C)."""
-    start = time.perf_counter()
-    result = fn()
-    return time.perf_counter() - start, result
-
-
 def _fill_patch(exemplar, output) -> float:
     """Median patch distance of the output rows below the exemplar's height: all of it synthesized
     on Resynthesizer's canvas, whose top-left corner is the exemplar itself."""
@@ -62,7 +52,7 @@ def _mrf_vs_resynthesizer(ctx, side, out_side):
     rows, sheets, ratio, stats = [], [], [], {"mrf": [], "rs": []}
     for tex in ctx.textures:
         ex = _crop(tex.image, side)
-        m_time, (out, positions) = _timed(lambda ex=ex: texsynth.synthesize_positions(
+        m_time, (out, positions) = timed(lambda ex=ex: texsynth.synthesize_positions(
             ex, out_side, out_side, method="multiscale_mrf", seed=SEED))
         q = ctx.quality(ex, out)
         q["fill_patch"] = _fill_patch(ex, out)
@@ -70,18 +60,18 @@ def _mrf_vs_resynthesizer(ctx, side, out_side):
         cells = [ex, out, texsynth.positions_image(positions, ex.shape)]
         r_time, rq = None, {}
         if rs is not None:
-            r_time, r_out = _timed(lambda ex=ex: rs.run(ex, out_side, out_side, SEED))
+            r_time, r_out = timed(lambda ex=ex: rs.run(ex, out_side, out_side, SEED))
             rq = ctx.quality(ex, r_out)
             rq["fill_patch"] = _fill_patch(ex, r_out)
             stats["rs"].append(rq)
             ratio.append(m_time / r_time)
             cells.insert(2, r_out)
         rows.append(cells)
-        lines.append(f"| {tex.short} | {m_time:.2f} | {_fmt(r_time, 2)} | "
-                     f"{_fmt(q['patch_distance'])} | {_fmt(rq.get('patch_distance'))} | "
-                     f"{q['copy_share']:.2f} | {_fmt(rq.get('copy_share'), 2)} | "
-                     f"{q['seam_ratio']:.2f} | {_fmt(rq.get('seam_ratio'), 2)} | "
-                     f"{q['fill_patch']:.3f} / {_fmt(rq.get('fill_patch'))} |")
+        lines.append(f"| {tex.short} | {m_time:.2f} | {fmt(r_time, 2)} | "
+                     f"{fmt(q['patch_distance'])} | {fmt(rq.get('patch_distance'))} | "
+                     f"{q['copy_share']:.2f} | {fmt(rq.get('copy_share'), 2)} | "
+                     f"{q['seam_ratio']:.2f} | {fmt(rq.get('seam_ratio'), 2)} | "
+                     f"{q['fill_patch']:.3f} / {fmt(rq.get('fill_patch'))} |")
     columns = ["exemplar", "multiscale_mrf"] + (["Resynthesizer"] if rs else []) + ["positions"]
     for i in range(0, len(rows), SHEET_ROWS):
         sheets.append(ctx.contact_sheet(f"nonparametric_mrf_{i // SHEET_ROWS}.png", columns,
@@ -128,7 +118,7 @@ def _efros_leung(ctx, names, side, out_side):
         q = ctx.quality(ex, out)
         rows.append([ex, out, texsynth.positions_image(positions, ex.shape)])
         lines.append(f"| {tex.short} | {m.median_s:.2f} | {brute:.0f} | {brute / m.median_s:.0f}x"
-                     f" | {_fmt(q['patch_distance'])} | {q['copy_share']:.2f} | "
+                     f" | {fmt(q['patch_distance'])} | {q['copy_share']:.2f} | "
                      f"{q['seam_ratio']:.2f} |")
     sheet = ctx.contact_sheet("nonparametric_el.png", ["exemplar", "efros_leung (11)",
                                                        "positions"], rows)

@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 
 import texsynth
 from benchmarks import peers
-from benchmarks.context import SAMPLE, SHARED_TEXTURES
+from benchmarks.context import SAMPLE, SHARED_TEXTURES, fmt, timed
 from texsynth import metrics
 from texsynth.io import read_image, write_png
 from texsynth.tileable import default_band
@@ -40,16 +40,6 @@ README_PHOTO = "large/nexuiz-textures/jagged_rock_cliff.png"
 TIMED_1024 = ("large/torcs-data/gravel_pebbles.png", "large/ufoai-textures/brick_wall.png",
               "large/nexuiz-textures/jagged_rock_cliff.png")
 OFF_PALETTE = 0.12  # RGB distance from every exemplar colour that counts as a new colour
-
-
-def _fmt(x, digits=3):
-    return "n/a" if x is None or x != x else f"{x:.{digits}f}"
-
-
-def _timed(fn):
-    start = time.perf_counter()
-    result = fn()
-    return time.perf_counter() - start, result
 
 
 def _photo(rel, side):
@@ -155,12 +145,12 @@ def _make_tileable(ctx, side):
     rows, ratio = [], []
     for k, (name, photo) in enumerate(zip(names, photos, strict=True)):
         band = default_band(photo.shape)
-        t_ours, ours = _timed(lambda p=photo: texsynth.make_tileable(p, seed=SEED))
+        t_ours, ours = timed(lambda p=photo: texsynth.make_tileable(p, seed=SEED))
         entry = {"ours": (ours, t_ours)}
         if gimp_outs is not None:
             entry["gimp"] = (gimp_outs[k], None)
         if has_rs:
-            t_rs, rs_out = _timed(lambda p=photo, b=band: resynthesizer_band(p, b))
+            t_rs, rs_out = timed(lambda p=photo, b=band: resynthesizer_band(p, b))
             entry["rs"] = (rs_out, t_rs)
             ratio.append(t_ours / t_rs)
         q = {}
@@ -171,11 +161,11 @@ def _make_tileable(ctx, side):
             stats[key].append(q[key])
         lines.append(
             f"| {Path(name).stem} | {metrics.seam_ratio(photo):.2f} | {band} | {t_ours:.2f} | "
-            f"{_fmt(_get(q, 'rs', 'seconds'), 2)} | {q['ours']['seam']:.2f} | "
-            f"{_fmt(_get(q, 'gimp', 'seam'), 2)} | {_fmt(_get(q, 'rs', 'seam'), 2)} | "
-            f"{q['ours']['unchanged']:.2f} | {_fmt(_get(q, 'gimp', 'unchanged'), 2)} | "
-            f"{_fmt(_get(q, 'rs', 'unchanged'), 2)} | {q['ours']['patch']:.3f} | "
-            f"{_fmt(_get(q, 'rs', 'patch'))} | {_fmt(_get(q, 'gimp', 'patch'))} |")
+            f"{fmt(_get(q, 'rs', 'seconds'), 2)} | {q['ours']['seam']:.2f} | "
+            f"{fmt(_get(q, 'gimp', 'seam'), 2)} | {fmt(_get(q, 'rs', 'seam'), 2)} | "
+            f"{q['ours']['unchanged']:.2f} | {fmt(_get(q, 'gimp', 'unchanged'), 2)} | "
+            f"{fmt(_get(q, 'rs', 'unchanged'), 2)} | {q['ours']['patch']:.3f} | "
+            f"{fmt(_get(q, 'rs', 'patch'))} | {fmt(_get(q, 'gimp', 'patch'))} |")
         rows.append([_tile(photo), _tile(entry.get("gimp", (None,))[0]),
                      _tile(entry.get("rs", (None,))[0]), _tile(ours)])
     columns = ["photo, tiled 2 x 2", "GIMP Make Seamless", "Resynthesizer, band",
@@ -192,7 +182,7 @@ def _timing_1024():
         if not (SHARED_TEXTURES / name).exists():
             continue
         photo = _photo(name, 1024)
-        t, out = _timed(lambda p=photo: texsynth.make_tileable(p, seed=SEED))
+        t, out = timed(lambda p=photo: texsynth.make_tileable(p, seed=SEED))
         seconds.append(t)
         lines.append(f"| {Path(name).stem} | {default_band(photo.shape)} | {t:.2f} | "
                      f"{metrics.seam_ratio(out):.2f} | {_unchanged(photo, out):.2f} |")
@@ -231,7 +221,7 @@ def _texture_optimization(ctx, side, out_side):
             run = (lambda ex=ex: rs.run(ex, out_side, out_side, SEED)) if n == "resynthesizer" \
                 else (lambda ex=ex, n=n: texsynth.synthesize(ex, out_side, out_side, method=n,
                                                              seed=SEED))
-            t, outs[n] = _timed(run)
+            t, outs[n] = timed(run)
             times[n].append(t)
             quality[n].append({"category": tex.category, **metrics.quality(ex, outs[n])})
         q = {n: quality[n][-1] for n in names}
@@ -239,14 +229,14 @@ def _texture_optimization(ctx, side, out_side):
             f"| {tex.short} | {tex.category} | "
             f"{q['texture_optimization']['structure_distance']:.3f} | "
             f"{q['multiscale_mrf']['structure_distance']:.3f} | "
-            f"{_fmt(_get(q, 'resynthesizer', 'structure_distance'))} | "
+            f"{fmt(_get(q, 'resynthesizer', 'structure_distance'))} | "
             f"{q['texture_optimization']['copy_share']:.2f} | "
             f"{q['multiscale_mrf']['copy_share']:.2f} | "
-            f"{_fmt(_get(q, 'resynthesizer', 'copy_share'), 2)} | "
+            f"{fmt(_get(q, 'resynthesizer', 'copy_share'), 2)} | "
             f"{q['texture_optimization']['patch_distance']:.3f} | "
-            f"{_fmt(_get(q, 'resynthesizer', 'patch_distance'))} | "
+            f"{fmt(_get(q, 'resynthesizer', 'patch_distance'))} | "
             f"{times['texture_optimization'][-1]:.2f} | "
-            f"{_fmt(times['resynthesizer'][-1] if rs else None, 2)} |")
+            f"{fmt(times['resynthesizer'][-1] if rs else None, 2)} |")
         rows.append([ex] + [outs[n] for n in names])
     summary = {}
     for n in names:
@@ -307,11 +297,11 @@ def run(ctx) -> str:
         "the photo?",
         "",
         f"Medians: seam ratio ours **{med('ours', 'seam'):.2f}**, GIMP "
-        f"{_fmt(med('gimp', 'seam'), 2)}, Resynthesizer {_fmt(med('rs', 'seam'), 2)}; "
+        f"{fmt(med('gimp', 'seam'), 2)}, Resynthesizer {fmt(med('rs', 'seam'), 2)}; "
         f"unchanged ours **{med('ours', 'unchanged'):.2f}**, GIMP "
-        f"{_fmt(med('gimp', 'unchanged'), 2)}, Resynthesizer {_fmt(med('rs', 'unchanged'), 2)};"
+        f"{fmt(med('gimp', 'unchanged'), 2)}, Resynthesizer {fmt(med('rs', 'unchanged'), 2)};"
         f" band patch distance ours **{med('ours', 'patch'):.3f}**, Resynthesizer "
-        f"{_fmt(med('rs', 'patch'))}, GIMP {_fmt(med('gimp', 'patch'))}"
+        f"{fmt(med('rs', 'patch'))}, GIMP {fmt(med('gimp', 'patch'))}"
         + (f"; time ours / Resynthesizer {statistics.median(ratio):.2f}" if ratio else "")
         + ".",
         "", *lines, "",
