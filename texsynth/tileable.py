@@ -87,10 +87,8 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     seed = validation.seed(seed)
     h, w = a.shape[:2]
     widest = _widest((h, w))
-    if band is None:
-        band = default_band((h, w), values["patch_size"])
-    elif isinstance(band, bool) or not isinstance(band, (int, np.integer)):
-        raise ValueError(f"band must be a whole number of pixels, got {band!r}")
+    band = default_band((h, w), values["patch_size"]) if band is None else \
+        validation.whole(band, "band (pixels)", 1)
     if not values["patch_size"] <= band <= widest:
         raise ValueError(f"band must be between the patch size ({values['patch_size']}) and "
                          f"{widest} pixels (wider would change more than half of the "

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize as opt
 
+from .. import validation
 from .combine import combine
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .lines import LineCost, families, segments
@@ -243,10 +244,9 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     if method not in ESTIMATE_METHODS:
         raise ValueError(f"method must be one of {', '.join(ESTIMATE_METHODS)}, got {method!r}")
     if focal_px is not None:
-        if isinstance(focal_px, bool) or not (np.isscalar(focal_px) and np.isreal(focal_px)
-                                              and math.isfinite(focal_px) and focal_px > 0):
+        focal_px = validation.finite(focal_px, "focal_px (pixels)")
+        if focal_px <= 0:
             raise ValueError(f"focal_px must be a positive number of pixels, got {focal_px!r}")
-        focal_px = float(focal_px)
     lum = luminance(image)
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)
