@@ -67,15 +67,22 @@ def _child(photo: str, method: str, side: int, out: str) -> None:
     from ..peers import resynthesizer
 
     exemplar = load(LARGE / photo)
+    calls = []  # times of the progress calls: Esc is seen at the next one
+
+    def progress(fraction, message):
+        calls.append(time.perf_counter())
+
     start = time.perf_counter()
     if method == PEER:
         image = resynthesizer(exemplar, side, side, SEED)
     else:
-        image = texsynth.synthesize(exemplar, side, side, method=method, seed=SEED)
+        image = texsynth.synthesize(exemplar, side, side, method=method, seed=SEED,
+                                    progress=progress)
     seconds = time.perf_counter() - start
+    gap = float(np.diff([start, *calls, start + seconds]).max()) if method != PEER else None
     hwm = int(re.search(r"VmHWM:\s+(\d+)", Path("/proc/self/status").read_text()).group(1))
     np.save(out, np.asarray(image, np.float32)[:, :, :3])
-    print(json.dumps({"seconds": seconds, "rss": hwm / 1024}), flush=True)
+    print(json.dumps({"seconds": seconds, "rss": hwm / 1024, "gap": gap}), flush=True)
 
 
 def _cache() -> Path:
@@ -116,7 +123,8 @@ def _run(photo: str, method: str, side: int, tmp: Path) -> dict:
         result = {"error": tail[0], "rss": float("nan")}
     else:
         child = json.loads(stdout.decode().strip().splitlines()[-1])
-        result = {"seconds": child["seconds"], "rss": child["rss"], "peak": "VmHWM"}
+        result = {"seconds": child["seconds"], "rss": child["rss"], "gap": child["gap"],
+                  "peak": "VmHWM"}
     record.write_text(json.dumps(result))
     return {**result, "image": np.load(out)} if "seconds" in result else result
 
@@ -126,6 +134,11 @@ def _predict_efros_leung(photo: str, tmp: Path) -> dict:
     if "error" in probe:
         return probe
     return {"predicted": probe["seconds"] * (SIDE / PROBE) ** 2, "probe": probe["seconds"]}
+
+
+def _gap(run: dict) -> str:
+    """The longest wait between progress reports, or blank for the peer (no progress)."""
+    return "" if run.get("gap") is None else f"{run['gap']:.1f}"
 
 
 def _quality(exemplar, image) -> dict:
@@ -155,20 +168,22 @@ def run(ctx) -> str:
         "interpreter and imports included, about 100 MiB). Seam: seam ratio (1 tiles); patch: "
         f"median nearest-exemplar-patch distance of {PATCH_SAMPLES} sampled 8 x 8 patches (lower "
         "is closer to the photo; copy: share of verbatim patches); structure: coherence-"
-        "histogram distance (0..1, lower keeps the photo's edges and lines). The natural row is "
+        "histogram distance (0..1, lower keeps the photo's edges and lines); Esc: the longest "
+        "interval between two progress reports (s), the longest a cancel can wait. The natural "
+        "row is "
         "the photo's two halves against each other. Efros-Leung is timed at "
         f"{PROBE} x {PROBE} and predicted at {SIDE} (linear in pixels: a lower bound), not run.",
         "",
     ]
-    table = ["| photo | method | size | time (s) | ratio | peak (MiB) | seam | patch | copy | "
-             "structure |", "|---|---|---|---|---|---|---|---|---|---|"]
+    table = ["| photo | method | size | time (s) | ratio | peak (MiB) | Esc (s) | seam | patch | "
+             "copy | structure |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     sheets = []
     tmp = _cache()
     for p, (photo, category) in enumerate(PHOTOS):
         exemplar = load(LARGE / photo)
         short = Path(photo).stem
         natural = metrics.self_distance(exemplar)
-        table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | "
+        table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | | "
                      f"{natural['patch_distance']:.2f} | {natural['copy_share']:.2f} | "
                      f"{natural['structure_distance']:.3f} |")
         runs = ([(m, BIG) for m in BIG_METHODS] if p == 0 else []) + [(m, SIDE) for m in names]
@@ -179,7 +194,7 @@ def run(ctx) -> str:
             r = _run(photo, method, side, tmp)
             if "error" in r:
                 table.append(f"| {short} | {method} | {side} | failed: {r['error']} | | "
-                             f"{r['rss']:.0f} | | | | |")
+                             f"{r['rss']:.0f} | | | | | |")
                 continue
             if method == PEER:
                 peer_time = r["seconds"]
@@ -189,19 +204,19 @@ def run(ctx) -> str:
                 ratio = "(4096)"
             table.append(
                 f"| {short} | {method} | {side} | {r['seconds']:.0f} | {ratio} | "
-                f"{r['rss']:.0f} | {q['seam']:.2f} | {q['patch']:.2f} | {q['copy']:.2f} | "
-                f"{q['structure']:.3f} |")
+                f"{r['rss']:.0f} | {_gap(r)} | {q['seam']:.2f} | {q['patch']:.2f} | "
+                f"{q['copy']:.2f} | {q['structure']:.3f} |")
             if side == SIDE:
                 crops[method] = _crop(r["image"])
         el = _predict_efros_leung(photo, tmp)
         if "error" in el:
             table.append(f"| {short} | efros_leung | {SIDE} | failed: {el['error']} "
-                         "| | | | | | |")
+                         "| | | | | | | |")
         else:
             ratio = f"{el['predicted'] / peer_time:.0f}" if peer_time else ""
             table.append(f"| {short} | efros_leung | {SIDE} | refused: predicted "
                          f"{el['predicted']:.0f} ({el['probe']:.1f} at {PROBE}) | {ratio} "
-                         "| | | | | |")
+                         "| | | | | | |")
         row = [exemplar[:CROP, :CROP]] + [crops.get(m) for m in names]
         sheets.append((short, ctx.contact_sheet(f"production_{short}.png",
                                                 ["photo", *names], [row], cell=CROP)))
