@@ -28,7 +28,7 @@ from .. import validation
 from .combine import combine
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .lines import LineCost, families, segments
-from .search import hessian, minimize
+from .search import evaluate, hessian, minimize
 from .spectra import Criterion, downsample, luminance, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
@@ -91,7 +91,7 @@ def _grid_starts(fun, tilts_over: float, count: int = 3):
     """The ``count`` best hypotheses p of a coarse slant x tilt grid."""
     grid = [np.zeros(2)] + [gradient(s, t) for s in (15, 30, 45, 60, 70)
                             for t in np.arange(0.0, tilts_over, 30.0)]
-    scores = [fun(p) for p in grid]
+    scores = evaluate(fun, grid)
     return [grid[i] for i in np.argsort(scores)[:count]]
 
 
@@ -197,7 +197,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
         return iso.isotropy(math.tan(math.radians(slant)) * direction, v)[0]
 
     grid = np.arange(2.5, 85.0, 5.0)
-    start = grid[int(np.argmin([slant_cost(s) for s in grid]))]
+    start = grid[int(np.argmin(evaluate(slant_cost, grid)))]
     best = opt.minimize_scalar(slant_cost, bounds=(max(start - 5, 0.5), min(start + 5, 85.0)),
                                method="bounded", options={"xatol": 0.05})
     slant = float(best.x)
