@@ -41,7 +41,7 @@ _OVER_CHANCE = 3.0    # ... and this many times what random directions would giv
 _ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
 _G_SPACED = 0.05     # depth ratio segments must keep under a horizon hypothesis
 _CYCLES = np.arange(3.0, 60.0, 0.05)  # periods across the family tested for equal spacing
-_SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (chance: about 10)
+_SPACED_Z = 20.0     # Rayleigh statistic an equal spacing needs (the best of chance: about 12)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 
 
@@ -241,7 +241,7 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1][:2]
     m = np.array([-vp_dir[1], vp_dir[0]])
     x, weight = family.m, family.length
-    t = np.tan(np.radians(np.arange(-85.0, 85.1, 2.5))) * 2.0 / side
+    t = np.tan(np.radians(np.arange(-85.0, 85.1, 1.0))) * 2.0 / side
     z = np.zeros(len(t))
     for i, ti in enumerate(t):
         g = 1.0 - x @ (c * a + ti * across)
