@@ -14,6 +14,11 @@ how far each family is from parallel and the two families from orthogonal, in un
 segment's own direction noise: parallelism fixes the vanishing line v, orthogonality one more
 constraint, so two families give slant, tilt and the focal length in closed form (Caprile &
 Torre 1990: f^2 = -x1 . x2 for orthogonal vanishing points x1, x2) and one family one constraint.
+
+One family alone (boards without visible butt joints): its vanishing point puts the horizon
+through a point (:func:`horizon_through`); the lines' equal spacing on the plane gives the rest
+(:func:`spaced_horizon`: homogeneity, sec. 11.4.1 of Forsyth & Ponce, applied to the lines'
+positions instead of filter energies; a Rayleigh test of periodicity replaces texel counts).
 """
 
 from __future__ import annotations
