@@ -28,7 +28,7 @@ from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .lines import LineCost, families, horizon_through, segments, spaced_horizon
-from .search import evaluate, hessian, minimize
+from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import Criterion, downsample, luminance, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
@@ -148,18 +148,22 @@ def _fit_isotropy(crit: Criterion) -> _Fit:
     return _Fit(fit.x, None, cov, True, True)
 
 
-def _settle_direction(cost, criterion, fit, step):
-    """The best fit receding either way, and by how much (noise units) it beats the best fit
-    receding the other way: a second search confined to the half-plane opposite ``fit.x``."""
-    axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
+def _settle_direction(cost, criterion, starts, step):
+    """The best fit from ``starts``, the best fit receding either way, and by how much (noise
+    units) it beats the best fit receding the other way: a second search confined to the
+    half-plane opposite the first."""
+    def other_side(fit):
+        axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
 
-    def other_way(q):
-        return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
+        def other_way(q):
+            return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
 
-    flipped = minimize(other_way, [-fit.x], step)
+        return minimize(other_way, [-fit.x], step)
+
+    fit, flipped = minimize_then(cost, starts, step, other_side)
     best, worse = (fit, flipped) if fit.fun <= flipped.fun else (flipped, fit)
     _, raw, dof = criterion(best.x)
-    return best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
+    return fit, best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
 
 
 def _spaced(cost, criterion, v_spaced, f):
@@ -181,9 +185,8 @@ def _fit_known_focal(crit: Criterion, f: float, v_spaced=None) -> _Fit:
     if v_spaced is not None:
         p, evidence, raw, dof = _spaced(cost, lambda q: crit.homogeneity(q, q / f), v_spaced, f)
     else:
-        fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
-        p, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f),
-                                                  fit, 0.05)
+        _, p, evidence, raw, dof = _settle_direction(
+            cost, lambda q: crit.homogeneity(q, q / f), _grid_starts(cost, 360.0, 2), 0.05)
     st = angles_from_gradient(p)
     if v_spaced is not None:  # the spacing's uncertainty, not the texture's
         cov = st_covariance(p, v_spaced[1] * f * f + np.eye(2) * 1e-8)
@@ -205,12 +208,9 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
         q, evidence, raw, dof = _spaced(cost, lambda q: crit.homogeneity(q, q / f_ref),
                                         v_spaced, f_ref)
     else:
-        fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
-        if math.hypot(*fit.x) < 1e-3:
-            return _fit_isotropy(crit)
-        q, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f_ref),
-                                                  fit, 0.05)
-        if evidence < _EVIDENCE:
+        fit, q, evidence, raw, dof = _settle_direction(
+            cost, lambda q: crit.homogeneity(q, q / f_ref), _grid_starts(cost, 360.0, 2), 0.05)
+        if math.hypot(*fit.x) < 1e-3 or evidence < _EVIDENCE:
             return _fit_isotropy(crit)
     v = q / f_ref
     direction = v / np.linalg.norm(v)

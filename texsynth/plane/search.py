@@ -14,7 +14,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import scipy.optimize as opt
 
-__all__ = ["evaluate", "minimize", "hessian"]
+__all__ = ["evaluate", "minimize", "minimize_then", "hessian"]
 
 _THREADS = max(1, min(2, os.cpu_count() or 1))
 
@@ -48,6 +48,22 @@ def minimize(fun, starts, step):
     for res in results[1:]:
         if res.fun < best.fun:
             best = res
+    return best
+
+
+def minimize_then(fun, starts, step, then):
+    """(best, then(best)) for best = minimize(fun, starts, step): ``then`` runs on each start's
+    result as soon as it is found, on that start's thread (the same result, sooner on two
+    cores than waiting for the best)."""
+    def task(x0):
+        res = _nelder_mead(fun, x0, step)
+        return res, then(res)
+
+    results = _map(task, starts)
+    best = results[0]
+    for pair in results[1:]:
+        if pair[0].fun < best[0].fun:
+            best = pair
     return best
 
 
