@@ -55,6 +55,10 @@ def minimize_then(fun, starts, step, then):
     """(best, then(best)) for best = minimize(fun, starts, step): ``then`` runs on each start's
     result as soon as it is found, on that start's thread (the same result, sooner on two
     cores than waiting for the best)."""
+    if _THREADS == 1 or len(starts) < 2:  # nothing to gain by running ``then`` on every start
+        best = minimize(fun, starts, step)
+        return best, then(best)
+
     def task(x0):
         res = _nelder_mead(fun, x0, step)
         return res, then(res)
