@@ -89,3 +89,15 @@ def brick_texture(seed=0, n=512, brick=(64, 24), mortar=3):
     joint = ((rows % bh) < mortar) | ((shifted % bw) < mortar)
     t = np.where(joint, -0.25, shade + 0.03 * rng.standard_normal((n, n)))
     return ndi.spline_filter(t, order=3, mode="grid-wrap")
+
+
+def board_texture(seed=0, n=512, width=24):
+    """Periodic floor boards running along x (n x n, prefiltered like :func:`noise_texture`):
+    each board a random shade with grain stretched along it, dark seams between boards; no
+    butt joints, so the seams are the only family of lines."""
+    rng = np.random.default_rng(seed)
+    rows = np.mgrid[0:n, 0:n][0]
+    shade = rng.uniform(-0.12, 0.12, n // width + 1)[rows // width]
+    grain = ndi.gaussian_filter(rng.standard_normal((n, n)), (0.7, 12.0), mode="wrap")
+    t = np.where(rows % width < 2, -0.25, shade + 0.05 * grain / grain.std())
+    return ndi.spline_filter(t, order=3, mode="grid-wrap")

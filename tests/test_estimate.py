@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from _planes import (
     SIZE,
+    board_texture,
     brick_texture,
     noise_texture,
     normal_error,
@@ -88,6 +89,15 @@ def test_lines_lead_on_bricks(bricks, slant, tilt, focal):
         assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
         assert abs(result.focal_px / focal - 1.0) < 0.1
         assert result.focal_estimated == (given is None)
+
+
+@pytest.mark.parametrize("slant, tilt, focal", [(55.0, 120.0, 300.0), (40.0, 250.0, 260.0)])
+def test_boards_are_right_or_not_confident(slant, tilt, focal):
+    """One family of seams (no butt joints) and a directional grain: where the seams' spacing
+    is not clear enough to fix the plane, the estimate must not claim confidence."""
+    result = estimate_plane(photograph(board_texture(), slant, tilt, focal), focal_px=focal)
+    assert (normal_error((slant, tilt), (result.slant, result.tilt)) < 5.0
+            or result.confidence < 0.5)
 
 
 def test_a_stochastic_texture_has_no_line_families(texture):

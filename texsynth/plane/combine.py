@@ -23,7 +23,7 @@ import numpy as np
 from .lines import LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
-__all__ = ["Combined", "combine"]
+__all__ = ["Combined", "combine", "st_covariance"]
 
 _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no perspective seen)
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
@@ -54,7 +54,7 @@ def _p_covariance(p: np.ndarray, cov_st: np.ndarray) -> np.ndarray:
     return jac @ cov_st @ jac.T + np.eye(2) * 1e-8
 
 
-def _st_covariance(p: np.ndarray, cov_p: np.ndarray) -> np.ndarray:
+def st_covariance(p: np.ndarray, cov_p: np.ndarray) -> np.ndarray:
     """Covariance of (slant, tilt) in degrees from that of p."""
     r = max(math.hypot(*p), 1e-6)
     slant = math.atan(r)
@@ -153,9 +153,9 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
     cov = _inverse(hess)
     p = np.asarray(theta[:2], dtype=np.float64)
-    cov_st = _st_covariance(p, cov[:2, :2])
+    cov_st = st_covariance(p, cov[:2, :2])
     alone = _inverse(hessian(lines, theta, np.maximum(1e-3, 0.01 * np.abs(theta))))
-    determined = _st_covariance(p, alone[:2, :2])[0, 0] < _DETERMINED ** 2
+    determined = st_covariance(p, alone[:2, :2])[0, 0] < _DETERMINED ** 2
     if known:
         return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
     w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))

@@ -25,10 +25,10 @@ import numpy as np
 import scipy.optimize as opt
 
 from .. import validation
-from .combine import combine
+from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
-from .lines import LineCost, families, segments
-from .search import hessian, minimize
+from .lines import LineCost, families, horizon_through, segments, spaced_horizon
+from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import Criterion, downsample, luminance, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
@@ -91,7 +91,7 @@ def _grid_starts(fun, tilts_over: float, count: int = 3):
     """The ``count`` best hypotheses p of a coarse slant x tilt grid."""
     grid = [np.zeros(2)] + [gradient(s, t) for s in (15, 30, 45, 60, 70)
                             for t in np.arange(0.0, tilts_over, 30.0)]
-    scores = [fun(p) for p in grid]
+    scores = evaluate(fun, grid)
     return [grid[i] for i in np.argsort(scores)[:count]]
 
 
@@ -148,47 +148,70 @@ def _fit_isotropy(crit: Criterion) -> _Fit:
     return _Fit(fit.x, None, cov, True, True)
 
 
-def _settle_direction(cost, criterion, fit, step):
-    """The best fit receding either way, and by how much (noise units) it beats the best fit
-    receding the other way: a second search confined to the half-plane opposite ``fit.x``."""
-    axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
+def _settle_direction(cost, criterion, starts, step):
+    """The best fit from ``starts``, the best fit receding either way, and by how much (noise
+    units) it beats the best fit receding the other way: a second search confined to the
+    half-plane opposite the first."""
+    def other_side(fit):
+        axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
 
-    def other_way(q):
-        return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
+        def other_way(q):
+            return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
 
-    flipped = minimize(other_way, [-fit.x], step)
+        return minimize(other_way, [-fit.x], step)
+
+    fit, flipped = minimize_then(cost, starts, step, other_side)
     best, worse = (fit, flipped) if fit.fun <= flipped.fun else (flipped, fit)
     _, raw, dof = criterion(best.x)
-    return best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
+    return fit, best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
 
 
-def _fit_known_focal(crit: Criterion, f: float) -> _Fit:
+def _spaced(cost, criterion, v_spaced, f):
+    """The plane q = f v of a vanishing line from one family's spacing
+    (:func:`~texsynth.plane.lines.spaced_horizon`) and the texture's evidence for its
+    receding direction over the opposite one."""
+    q = np.asarray(v_spaced[0], dtype=np.float64) * f
+    _, raw, dof = criterion(q)
+    return q, (cost(-q) - cost(q)) / _noise(raw, dof), raw, dof
+
+
+def _fit_known_focal(crit: Criterion, f: float, v_spaced=None) -> _Fit:
     """Homogeneity with the focal length known: the texture's band energies must be the same in
-    every window once back-projected; this fixes slant and the receding direction."""
+    every window once back-projected; this fixes slant and the receding direction (unless a
+    line family's spacing gave the vanishing line ``v_spaced``)."""
     def cost(p):
         return crit.homogeneity(p, p / f)[0]
 
-    fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
-    p, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f), fit,
-                                              0.05)
+    if v_spaced is not None:
+        p, evidence, raw, dof = _spaced(cost, lambda q: crit.homogeneity(q, q / f), v_spaced, f)
+    else:
+        _, p, evidence, raw, dof = _settle_direction(
+            cost, lambda q: crit.homogeneity(q, q / f), _grid_starts(cost, 360.0, 2), 0.05)
     st = angles_from_gradient(p)
-    cov = _covariance(_angles_cost(crit.homogeneity, lambda q: q / f), st, (1.5, 3.0), raw, dof)
-    return _Fit(p, f, cov, evidence < _EVIDENCE, False)
+    if v_spaced is not None:  # the spacing's uncertainty, not the texture's
+        cov = st_covariance(p, v_spaced[1] * f * f + np.eye(2) * 1e-8)
+    else:
+        cov = _covariance(_angles_cost(crit.homogeneity, lambda q: q / f), st, (1.5, 3.0), raw,
+                          dof)
+    # The spacing's chirp fixes the receding direction too.
+    return _Fit(p, f, cov, evidence < _EVIDENCE and v_spaced is None, False)
 
 
-def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
-    """Homogeneity gives the vanishing line v = tan(slant) / f (tilt mod 360); isotropy at that
-    tilt gives the slant, and so f. Without evidence of perspective: :func:`_fit_isotropy`."""
+def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
+    """Homogeneity gives the vanishing line v = tan(slant) / f (tilt mod 360; or a line
+    family's spacing gave it, ``v_spaced``); isotropy at that tilt gives the slant, and so f.
+    Without evidence of perspective: :func:`_fit_isotropy`."""
     def cost(q):
         return crit.homogeneity(q, q / f_ref)[0]
 
-    fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
-    if math.hypot(*fit.x) < 1e-3:
-        return _fit_isotropy(crit)
-    q, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f_ref),
-                                              fit, 0.05)
-    if evidence < _EVIDENCE:
-        return _fit_isotropy(crit)
+    if v_spaced is not None:
+        q, evidence, raw, dof = _spaced(cost, lambda q: crit.homogeneity(q, q / f_ref),
+                                        v_spaced, f_ref)
+    else:
+        fit, q, evidence, raw, dof = _settle_direction(
+            cost, lambda q: crit.homogeneity(q, q / f_ref), _grid_starts(cost, 360.0, 2), 0.05)
+        if math.hypot(*fit.x) < 1e-3 or evidence < _EVIDENCE:
+            return _fit_isotropy(crit)
     v = q / f_ref
     direction = v / np.linalg.norm(v)
     iso = crit.band_limited(_ISO_W_MAX)
@@ -197,7 +220,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
         return iso.isotropy(math.tan(math.radians(slant)) * direction, v)[0]
 
     grid = np.arange(2.5, 85.0, 5.0)
-    start = grid[int(np.argmin([slant_cost(s) for s in grid]))]
+    start = grid[int(np.argmin(evaluate(slant_cost, grid)))]
     best = opt.minimize_scalar(slant_cost, bounds=(max(start - 5, 0.5), min(start + 5, 85.0)),
                                method="bounded", options={"xatol": 0.05})
     slant = float(best.x)
@@ -252,23 +275,40 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     small, k = downsample(lum)
     mask = texture_mask(small)
     crit = Criterion(spectra(small, mask, _W_MAX, _WINDOW))
-    found = []
+    found, spaced = [], None
     # A telephoto view (field of view under about 5 degrees) has no perspective left to read
     # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
     telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
     if method == "isotropy" or telephoto:
         fit = _fit_isotropy(crit)
     else:
-        fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
-            _fit_unknown_focal(crit, float(max(small.shape)))
-        # One family on its own was wrong more often than right (foreshortened texels line up
-        # across the tilt): only two families enter.
-        found = families(segments(small, mask), float(max(small.shape)))
-        found = found if len(found) == 2 else []
+        side = float(max(small.shape))
+
+        def texture_fit(v_spaced=None):
+            return _fit_known_focal(crit, focal_px / k, v_spaced) if focal_px is not None \
+                else _fit_unknown_focal(crit, side, v_spaced)
+
+        fit = texture_fit()
+        found = families(segments(small, mask), side)
+        spaced = None
+        if len(found) == 1 and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
+            # One family on its own was wrong more often than right where the texture is
+            # isotropic (foreshortened texels line up across the tilt); where it is not
+            # (boards), the family's equal spacing gives the vanishing line.
+            spaced = spaced_horizon(found[0], horizon_through(found[0], side), side)
+            if spaced is not None and focal_px is None and (
+                    np.linalg.norm(spaced[0]) <= 2.0 * math.sqrt(np.trace(spaced[1]))):
+                spaced = None  # no perspective seen: nothing for the spacing to fix
+        if spaced is not None:
+            fit = texture_fit(spaced)
+        elif len(found) == 1:
+            found = []
     # The texture's honest floor: wider the more its own anisotropy is left after the fit.
     anisotropy = math.sqrt(max(_anisotropy(crit, fit), 0.0))
     floor = _SYSTEMATIC * max(1.0, anisotropy / _ANISOTROPY_OK)
-    if found:  # the texture fit with the floors _result would state
+    if spaced is not None and focal_px is not None:
+        floor = _SYSTEMATIC  # the lines and their spacing alone give the plane
+    if found and spaced is None:  # the texture fit with the floors _result would state
         prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
                                    floor ** 2])
         both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,

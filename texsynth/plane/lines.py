@@ -14,6 +14,11 @@ how far each family is from parallel and the two families from orthogonal, in un
 segment's own direction noise: parallelism fixes the vanishing line v, orthogonality one more
 constraint, so two families give slant, tilt and the focal length in closed form (Caprile &
 Torre 1990: f^2 = -x1 . x2 for orthogonal vanishing points x1, x2) and one family one constraint.
+
+One family alone (boards without visible butt joints): its vanishing point puts the horizon
+through a point (:func:`horizon_through`); the lines' equal spacing on the plane gives the rest
+(:func:`spaced_horizon`: homogeneity, sec. 11.4.1 of Forsyth & Ponce, applied to the lines'
+positions instead of filter energies; a Rayleigh test of periodicity replaces texel counts).
 """
 
 from __future__ import annotations
@@ -26,7 +31,8 @@ import scipy.ndimage as ndi
 
 from .geometry import jacobians
 
-__all__ = ["Segments", "segments", "families", "vanishing_point", "LineCost"]
+__all__ = ["Segments", "segments", "families", "vanishing_point", "horizon_through",
+           "spaced_horizon", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
@@ -38,6 +44,9 @@ _MIN_FAMILY = 6       # segments a family needs
 _MIN_SUPPORT = 0.75   # total length of a family, in image sides
 _OVER_CHANCE = 3.0    # ... and this many times what random directions would give
 _ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
+_G_SPACED = 0.05     # depth ratio segments must keep under a horizon hypothesis
+_CYCLES = np.arange(3.0, 60.0, 0.05)  # periods across the family tested for equal spacing
+_SPACED_Z = 20.0     # Rayleigh statistic an equal spacing needs (the best of chance: about 12)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 
 
@@ -209,6 +218,53 @@ def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     if abs(vp[2]) * 1e3 < spread * np.linalg.norm(vp[:2]):  # farther than 1000 image sides
         return None
     return vp[:2] / vp[2] * side
+
+
+def horizon_through(family: Segments, side: float) -> np.ndarray:
+    """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
+    a . v = c (a unit vector): every plane whose lines of this direction appear as the family
+    has its horizon v . x = 1 through the vanishing point x (a . v = 0 when x is at infinity)."""
+    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1]
+    norm = float(np.linalg.norm(vp[:2]))
+    return np.append(vp[:2] / norm, vp[2] / (norm * side))
+
+
+def spaced_horizon(family: Segments, constraint: np.ndarray,
+                   side: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The vanishing line v (1 / pixels) that makes the family's lines equally spaced on the
+    plane (boards, courses, tile rows), searched along the family's own ``constraint``
+    (:func:`horizon_through`), and its covariance (from the half-height width of the
+    periodicity peak, two sigmas); None when no spacing stands out of chance.
+
+    Under v, the plane offset across the family of an image point x is o = (m . x) / (1 - v . x)
+    up to scale, m normal to the direction of the vanishing point; o is periodic in equally
+    spaced lines (z: the Rayleigh statistic of the best period), and a wrong v chirps the period
+    across the image.
+    """
+    a, c = constraint[:2], float(constraint[2])
+    across = np.array([-a[1], a[0]])
+    vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1][:2]
+    m = np.array([-vp_dir[1], vp_dir[0]])
+    x, weight = family.m, family.length
+    t = np.tan(np.radians(np.arange(-85.0, 85.1, 1.0))) * 2.0 / side
+    z = np.zeros(len(t))
+    for i, ti in enumerate(t):
+        g = 1.0 - x @ (c * a + ti * across)
+        if g.min() > _G_SPACED:
+            o = (x @ m) / g
+            o = (o - o.min()) / max(float(np.ptp(o)), 1e-12)
+            rayleigh = np.abs(np.exp(2j * math.pi * _CYCLES[:, None] * o[None]) @ weight) ** 2
+            z[i] = rayleigh.max() / (weight * weight).sum()
+    best = int(np.argmax(z))
+    if z[best] < _SPACED_Z:
+        return None
+    lo, hi = best, best
+    while lo > 0 and z[lo - 1] >= z[best] / 2:
+        lo -= 1
+    while hi < len(t) - 1 and z[hi + 1] >= z[best] / 2:
+        hi += 1
+    sd = max(t[hi] - t[lo], t[min(best + 1, len(t) - 1)] - t[max(best - 1, 0)]) / 4.0
+    return c * a + t[best] * across, sd * sd * np.outer(across, across)
 
 
 class LineCost:

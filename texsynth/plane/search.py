@@ -1,39 +1,90 @@
-"""Numerical search helpers shared by the texture fit and the combination with lines."""
+"""Numerical search helpers shared by the texture fit and the combination with lines.
+
+Independent evaluations (a grid of hypotheses, the points of a finite-difference Hessian, the
+starts of a search) run on two threads: the criteria spend their time in numpy, which releases
+the interpreter lock, so a photo's estimate uses two cores. Results do not depend on it (each
+evaluation is the same pure function; results are gathered in order).
+"""
 
 from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.optimize as opt
 
-__all__ = ["minimize", "hessian"]
+__all__ = ["evaluate", "minimize", "minimize_then", "hessian"]
+
+_THREADS = max(1, min(2, os.cpu_count() or 1))
+
+
+def _map(fun, items) -> list:
+    """[fun(x) for x in items], on up to _THREADS threads."""
+    items = list(items)
+    if _THREADS == 1 or len(items) < 2:
+        return [fun(x) for x in items]
+    with ThreadPoolExecutor(_THREADS) as pool:
+        return list(pool.map(fun, items))
+
+
+def evaluate(fun, points) -> list[float]:
+    """fun at each of ``points``, in order."""
+    return _map(fun, points)
+
+
+def _nelder_mead(fun, x0, step):
+    x0 = np.asarray(x0, dtype=np.float64)
+    simplex = np.vstack([x0, x0 + np.diag(np.broadcast_to(step, x0.shape))])
+    return opt.minimize(fun, x0, method="Nelder-Mead",
+                        options={"initial_simplex": simplex, "xatol": 2e-3, "fatol": 1e-4,
+                                 "maxfev": 300})
 
 
 def minimize(fun, starts, step):
-    """Nelder-Mead from each start; the best result."""
-    best = None
-    for x0 in starts:
-        x0 = np.asarray(x0, dtype=np.float64)
-        simplex = np.vstack([x0, x0 + np.diag(np.broadcast_to(step, x0.shape))])
-        res = opt.minimize(fun, x0, method="Nelder-Mead",
-                           options={"initial_simplex": simplex, "xatol": 2e-3, "fatol": 1e-4,
-                                    "maxfev": 300})
-        if best is None or res.fun < best.fun:
+    """Nelder-Mead from each start; the best result (the first of equals)."""
+    results = _map(lambda x0: _nelder_mead(fun, x0, step), starts)
+    best = results[0]
+    for res in results[1:]:
+        if res.fun < best.fun:
             best = res
+    return best
+
+
+def minimize_then(fun, starts, step, then):
+    """(best, then(best)) for best = minimize(fun, starts, step): ``then`` runs on each start's
+    result as soon as it is found, on that start's thread (the same result, sooner on two
+    cores than waiting for the best)."""
+    if _THREADS == 1 or len(starts) < 2:  # nothing to gain by running ``then`` on every start
+        best = minimize(fun, starts, step)
+        return best, then(best)
+
+    def task(x0):
+        res = _nelder_mead(fun, x0, step)
+        return res, then(res)
+
+    results = _map(task, starts)
+    best = results[0]
+    for pair in results[1:]:
+        if pair[0].fun < best[0].fun:
+            best = pair
     return best
 
 
 def hessian(fun, x: np.ndarray, step: np.ndarray) -> np.ndarray:
     """Central finite-difference Hessian of ``fun`` at ``x``."""
     n = len(x)
-    f0 = fun(x)
+    e = np.diag(np.asarray(step, dtype=np.float64) * np.ones(n))
+    pairs = [(i, j) for i in range(n) for j in range(i)]
+    points = [x] + [x + s * e[i] for i in range(n) for s in (1, -1)] + [
+        x + si * e[i] + sj * e[j] for i, j in pairs for si, sj in ((1, 1), (1, -1), (-1, 1),
+                                                                     (-1, -1))]
+    values = evaluate(fun, points)
+    f0, diagonal, mixed = values[0], values[1:1 + 2 * n], values[1 + 2 * n:]
     hess = np.zeros((n, n))
     for i in range(n):
-        ei = np.zeros(n)
-        ei[i] = step[i]
-        hess[i, i] = (fun(x + ei) - 2 * f0 + fun(x - ei)) / step[i] ** 2
-        for j in range(i):
-            ej = np.zeros(n)
-            ej[j] = step[j]
-            hess[i, j] = hess[j, i] = (fun(x + ei + ej) - fun(x + ei - ej) - fun(x - ei + ej)
-                                       + fun(x - ei - ej)) / (4 * step[i] * step[j])
+        hess[i, i] = (diagonal[2 * i] - 2 * f0 + diagonal[2 * i + 1]) / step[i] ** 2
+    for k, (i, j) in enumerate(pairs):
+        a, b, c, d = mixed[4 * k:4 * k + 4]
+        hess[i, j] = hess[j, i] = (a - b - c + d) / (4 * step[i] * step[j])
     return hess

@@ -163,22 +163,35 @@ class Criterion:
         fr = (np.float32(0.5) * np.log2(nu_x * nu_x + nu_y * nu_y)
               - np.float32(_LOG_RANGE[0])) / np.float32(_DLOG)
         fr = np.clip(fr, 0.0, self.scales - 1.001)  # the end bins, never valid, take overflow
-        ft = (np.arctan2(nu_y, nu_x) % np.float32(math.pi)) / np.float32(math.pi / _ANGLES) \
-            - np.float32(0.5)
+        # angle mod pi, then in bins: adding pi where negative is what % pi does, 8x cheaper
+        ft = np.arctan2(nu_y, nu_x)
+        ft += np.float32(math.pi) * (ft < 0)
+        ft -= np.float32(math.pi) * (ft >= np.float32(math.pi))
+        ft = ft / np.float32(math.pi / _ANGLES) - np.float32(0.5)
         r0, t0 = np.floor(fr), np.floor(ft)
         a, b = fr - r0, ft - t0
         n = len(det) * self.cells
-        lo = ((np.arange(len(det)) * self.cells)[:, None] + r0.astype(np.int64) * _ANGLES)
-        t_lo = t0.astype(np.int64) % _ANGLES
-        t_hi = (t_lo + 1) % _ANGLES
-        psd = s.psd
-        wsum, w2sum, psum = np.zeros(n), np.zeros(n), np.zeros(n)
-        for idx, weight in ((lo + t_lo, (1 - a) * (1 - b)), (lo + t_hi, (1 - a) * b),
-                            (lo + _ANGLES + t_lo, a * (1 - b)), (lo + _ANGLES + t_hi, a * b)):
-            idx, weight = idx.ravel(), weight.ravel().astype(np.float64)
-            wsum += np.bincount(idx, weight, n)
-            w2sum += np.bincount(idx, weight * weight, n)
-            psum += np.bincount(idx, weight * psd.ravel(), n)
+        # The four corners of each sample's bilinear cell, in one index and weight array each.
+        lo = ((np.arange(len(det)) * self.cells)[:, None] + r0.astype(np.intp) * _ANGLES)
+        t_lo = t0.astype(np.intp)
+        t_lo += _ANGLES * (t_lo < 0)  # t0 >= -1
+        t_hi = t_lo + 1
+        t_hi -= _ANGLES * (t_hi == _ANGLES)
+        idx = np.empty((4, *lo.shape), np.intp)
+        np.add(lo, t_lo, out=idx[0])
+        np.add(lo, t_hi, out=idx[1])
+        np.add(idx[0], _ANGLES, out=idx[2])
+        np.add(idx[1], _ANGLES, out=idx[3])
+        weight = np.empty((4, *lo.shape))
+        one_a, one_b = 1 - a, 1 - b
+        np.multiply(one_a, one_b, out=weight[0])
+        np.multiply(one_a, b, out=weight[1])
+        np.multiply(a, one_b, out=weight[2])
+        np.multiply(a, b, out=weight[3])
+        idx = idx.ravel()
+        wsum = np.bincount(idx, weight.ravel(), n)
+        w2sum = np.bincount(idx, np.square(weight).ravel(), n)
+        psum = np.bincount(idx, (weight * s.psd[None]).ravel(), n)
         shape = (len(det), self.scales, _ANGLES)
         wsum, w2sum, psum = (x.reshape(shape) for x in (wsum, w2sum, psum))
         expected = s.size ** 2 * det[:, None, None] * self.band_area[None, :, None]
@@ -205,12 +218,13 @@ class Criterion:
         # gain, ridge-shrunk halfway to zero (a prior as strong as the window's own bands).
         gain = np.zeros((len(energy), 1, 1))
         bands = 2.0 * shared.sum(axis=(1, 2), keepdims=True) + 1e-9
+        weight = shared.astype(np.float64)  # products, not np.where: the same sums, faster
         for _ in range(4):
-            mean = np.where(shared, energy - gain, 0).sum(axis=0) / n
-            gain = np.where(shared, energy - mean, 0).sum(axis=(1, 2), keepdims=True) / bands
-        residual = np.where(shared, energy - gain - mean, 0)
+            mean = ((energy - gain) * weight).sum(axis=0) / n
+            gain = ((energy - mean) * weight).sum(axis=(1, 2), keepdims=True) / bands
+        residual = (energy - gain - mean) * weight
         raw = float((residual ** 2).sum() / dof)
-        bias = float(np.where(shared, noise * (1 - 1 / n)[None], 0).sum() / dof)
+        bias = float((noise * (1 - 1 / n)[None] * weight).sum() / dof)
         return raw - bias + penalty, raw, dof
 
     def isotropy(self, p, v) -> tuple[float, float, int]:
