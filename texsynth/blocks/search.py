@@ -112,12 +112,13 @@ def exemplar_neighbours(exemplar: np.ndarray, offsets: np.ndarray, step: int = 1
 
 
 def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: bool,
-                    outside: float) -> np.ndarray:
+                    outside: float, out: np.ndarray | None = None) -> np.ndarray:
     """Every exemplar pixel's row ``[X, Q]`` (float32, (H W + 1, K (C + 1)), the last row zero):
     X its neighbours ``exemplar[p + step u, q + step v]`` (K C values), Q their squared norms
     (K values); a neighbour outside the exemplar has X = 0 and Q = ``outside``. With ``wrap``
     every neighbour wraps. Filled a band of rows at a time, so each band stays in cache while
-    every offset writes into it."""
+    every offset writes into it; ``out``, when given, is that array (reused across levels, which
+    spares the fresh pages of a new one)."""
     h, w, c = exemplar.shape
     k = len(offsets)
     du, dv = (np.asarray(offsets) * step).T
@@ -130,7 +131,8 @@ def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: 
     else:
         x_pad = np.pad(exemplar, (*pad, (0, 0)))
         q_pad = np.pad(squares, pad, constant_values=outside)
-    table = np.empty((h * w + 1, k * (c + 1)), np.float32)
+    shape = (h * w + 1, k * (c + 1))
+    table = np.empty(shape, np.float32) if out is None else out
     table[-1] = 0
     rows = table[:-1].reshape(h, w, k * (c + 1))
     band = max(1, _TABLE_BAND // (w * k * (c + 1) * 4))
