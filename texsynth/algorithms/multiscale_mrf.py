@@ -66,7 +66,7 @@ class _Level:
     left out. Colours are centred on the exemplar mean. The table is built in ``out`` when given
     (one array refilled level after level)."""
 
-    #: Output pixels whose candidates are scored at once (keeps the gathered rows in cache).
+    #: Output pixels visited at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
     def __init__(self, exemplar, offsets, step, wrap, random_candidates, proposers=None,
@@ -90,24 +90,28 @@ class _Level:
     def visit(self, source, confidence, rows, cols, rng):
         """One visit of the pixels (rows, cols), none in another's neighbourhood: each moves to
         its best candidate when that beats its current position. Returns the new positions.
-        A pixel offered nothing but its current position keeps it unscored."""
-        current = source[rows, cols]
+        Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache."""
+        out = source[rows, cols]
+        for s in range(0, len(rows), self.CHUNK):
+            sl = slice(s, s + self.CHUNK)
+            out[sl] = self._visit(source, confidence, rows[sl], cols[sl], out[sl], rng)
+        return out
+
+    def _visit(self, source, confidence, rows, cols, current, rng):
         p = self.proposers
         if self.random_candidates:  # every pixel is offered new positions
             nb, nw = self._neighbours(source, confidence, rows, cols, self.k)
             extra = rng.integers(self.n, size=(len(rows), self.random_candidates))
             cand = np.concatenate([self._continuations(nb[:, :p], nw[:, :p]),
                                    extra.astype(nb.dtype)], axis=1)
-            todo = np.arange(len(rows))
-        else:
-            cand = self._continuations(*self._neighbours(source, confidence, rows, cols, p))
-            todo = np.flatnonzero(((cand != current[:, None]) & (cand != self.n)).any(axis=1))
-            nb, nw = self._neighbours(source, confidence, rows[todo], cols[todo], self.k)
+            return self._best(nb, nw, current, cand)
+        # A pixel offered nothing but its current position keeps it unscored.
+        cand = self._continuations(*self._neighbours(source, confidence, rows, cols, p))
+        todo = np.flatnonzero(((cand != current[:, None]) & (cand != self.n)).any(axis=1))
         out = current.copy()
-        for s in range(0, len(todo), self.CHUNK):
-            i = todo[s:s + self.CHUNK]
-            sl = slice(s, s + self.CHUNK)
-            out[i] = self._best(nb[sl], nw[sl], current[i], cand[i])
+        if len(todo):
+            nb, nw = self._neighbours(source, confidence, rows[todo], cols[todo], self.k)
+            out[todo] = self._best(nb, nw, current[todo], cand[todo])
         return out
 
     def _neighbours(self, source, confidence, rows, cols, k):
