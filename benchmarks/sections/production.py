@@ -35,14 +35,17 @@ ORDER = 35
 TITLE = "Production sizes: large photos, 2048 and 4096 outputs"
 SEED = 0
 LARGE = SHARED_TEXTURES / "large"
-#: (file below shared/textures/large, category): one stochastic, one regular (bricks).
+#: (file below shared/textures/large, category): one regular (bricks), one stochastic, one
+#: structured (rock strata and cracks).
 PHOTOS = (("ufoai-textures/brick_wall.png", "regular"),
-          ("torcs-data/gravel_pebbles.png", "stochastic"))
+          ("torcs-data/gravel_pebbles.png", "stochastic"),
+          ("ufoai-textures/layered_grey_rock.png", "structured"))
 EXEMPLAR = 1024  # photos larger than this are block-averaged down to it
 SIDE = 2048
 BIG = 4096
 BIG_METHODS = ("heeger_bergen", "multiscale_mrf")
-METHODS = ("heeger_bergen", "multiscale_mrf", "de_bonet", "cooccurrence", "composite")
+METHODS = ("heeger_bergen", "multiscale_mrf", "texture_optimization", "de_bonet", "cooccurrence",
+           "composite")
 PEER = "resynthesizer"
 #: Efros-Leung is timed at this output side and predicted at ``SIDE``.
 PROBE = 16

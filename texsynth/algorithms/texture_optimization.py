@@ -148,25 +148,25 @@ class _Grid:
 
 
 def _vote(z, nnf, weights, grid, unknown, fixed_image):
-    """E-step: the weighted average of the overlapping exemplar patches on every free pixel
-    (one weighted bincount per channel over every patch pixel of every active patch)."""
+    """E-step: the weighted average of the overlapping exemplar patches on every free pixel.
+    Summed one patch pixel (u, v) at a time: the active patches then cover distinct output
+    pixels, so each sum is a plain indexed add and no temporary grows with p^2."""
     hh, ww = grid.shape
     c = z.shape[2]
-    p = grid.p
-    u, v = np.divmod(np.arange(p * p), p)
+    flat_z = z.reshape(-1, c)
     sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
-    target = (((grid.top[:, None] + u) % hh) * ww + (grid.left[:, None] + v) % ww).ravel()
-    colours = z.reshape(-1, c)[((sr[:, None] + u) * z.shape[1] + sc[:, None] + v).ravel()]
-    wgt = np.repeat(weights.astype(np.float64), p * p)
-    norm = np.bincount(target, wgt, minlength=hh * ww)
+    wgt = weights.astype(np.float64)
+    norm = np.zeros(hh * ww)
+    total = np.zeros((hh * ww, c))
+    for u, v, target in grid.offsets():
+        norm[target] += wgt
+        total[target] += wgt[:, None] * flat_z[(sr + u) * z.shape[1] + sc + v]
     covered = norm > 0
     if unknown is not None:
         covered &= unknown.ravel()
     image = (np.zeros((hh * ww, c), np.float32) if unknown is None
              else fixed_image.reshape(-1, c).copy())
-    for k in range(c):
-        total = np.bincount(target, wgt * colours[:, k], minlength=hh * ww)
-        image[covered, k] = total[covered] / norm[covered]
+    image[covered] = total[covered] / norm[covered, None]
     return image.reshape(hh, ww, c)
 
 

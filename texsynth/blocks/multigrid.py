@@ -78,6 +78,7 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
             halves[::2, ::2] = t  # confidence 0.5
+        level = None  # the finer level's tables are built after the coarser one's are freed
         level = make_level(lv)
         start = work[lv + 1:].sum()
         relax(level, source, halves, t, rng, progress.span(start, start + work[lv]), lv)

@@ -6,6 +6,7 @@ Pieces, each usable alone:
 - :func:`toroidal_gather`: the neighbours of output pixels on a torus (periodic output);
 - :func:`exemplar_neighbours`: every exemplar pixel's neighbours at a given step, with a flag for
   those outside the exemplar (or wrapped, for an exemplar declared tileable);
+  :func:`neighbour_table` the same as one row of values and squared norms per pixel;
 - :class:`PatchMatrix`: every exemplar window as one row, so the weighted SSD of a batch of
   partially known output neighbourhoods against *all* exemplar windows is one matrix product
   (exact, not approximate): ``sum_k g_k ||E_k - N_k||^2 = sum_k g_k ||E_k||^2
@@ -27,12 +28,16 @@ __all__ = [
     "gaussian_weights",
     "toroidal_gather",
     "exemplar_neighbours",
+    "neighbour_table",
     "PatchMatrix",
     "sample_near_best",
     "sparse_subset",
     "best_candidate",
     "Rows",
 ]
+
+#: Bytes of table filled at once by :func:`neighbour_table` (about a core's L2 cache).
+_TABLE_BAND = 1 << 20
 
 
 class Rows:
@@ -104,6 +109,40 @@ def exemplar_neighbours(exemplar: np.ndarray, offsets: np.ndarray, step: int = 1
     values = exemplar[np.clip(p, 0, h - 1), np.clip(q, 0, w - 1)]
     values[~inside] = 0
     return values, inside
+
+
+def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: bool,
+                    outside: float, out: np.ndarray | None = None) -> np.ndarray:
+    """Every exemplar pixel's row ``[X, Q]`` (float32, (H W + 1, K (C + 1)), the last row zero):
+    X its neighbours ``exemplar[p + step u, q + step v]`` (K C values), Q their squared norms
+    (K values); a neighbour outside the exemplar has X = 0 and Q = ``outside``. With ``wrap``
+    every neighbour wraps. Filled a band of rows at a time, so each band stays in cache while
+    every offset writes into it; ``out``, when given, is that array (reused across levels, which
+    spares the fresh pages of a new one)."""
+    h, w, c = exemplar.shape
+    k = len(offsets)
+    du, dv = (np.asarray(offsets) * step).T
+    m = int(np.abs(du).max(initial=0)), int(np.abs(dv).max(initial=0))
+    pad = ((m[0], m[0]), (m[1], m[1]))
+    squares = (exemplar * exemplar).sum(axis=2)
+    if wrap:
+        x_pad = np.pad(exemplar, (*pad, (0, 0)), mode="wrap")
+        q_pad = np.pad(squares, pad, mode="wrap")
+    else:
+        x_pad = np.pad(exemplar, (*pad, (0, 0)))
+        q_pad = np.pad(squares, pad, constant_values=outside)
+    shape = (h * w + 1, k * (c + 1))
+    table = np.empty(shape, np.float32) if out is None else out
+    table[-1] = 0
+    rows = table[:-1].reshape(h, w, k * (c + 1))
+    band = max(1, _TABLE_BAND // (w * k * (c + 1) * 4))
+    for r0 in range(0, h, band):
+        r1 = min(h, r0 + band)
+        for j in range(k):
+            src = slice(m[0] + du[j] + r0, m[0] + du[j] + r1), slice(m[1] + dv[j], m[1] + dv[j] + w)
+            rows[r0:r1, :, j * c:(j + 1) * c] = x_pad[src]
+            rows[r0:r1, :, k * c + j] = q_pad[src]
+    return table
 
 
 class PatchMatrix:
