@@ -29,7 +29,7 @@ from .combine import combine
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .lines import LineCost, families, segments
 from .search import hessian, minimize
-from .spectra import Criterion, downsample, luminance, spectra, texture_mask
+from .spectra import Criterion, Spectra, downsample, luminance, moment_slant, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
 
@@ -77,6 +77,9 @@ class PlaneEstimate:
 
 _WINDOW = 48         # analysis window side (reduced image px): 48 beat 32 and 64 on renders
 _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist is 0.5)
+_MOMENT_W_MAX = 0.71  # the orthographic moment uses the whole periodogram, corners included
+_GROUPS = 8          # jackknife groups of windows for the moment estimate's uncertainty
+_MOMENT_FLOOR = 6.0  # deg: the textures' own anisotropy read as slant by the moment (slant >= 20)
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
@@ -130,22 +133,33 @@ class _Fit:
     ambiguous: bool
     isotropy_based: bool
     focal_sd: float | None = None  # relative
+    spread: np.ndarray | None = None  # cov less how weakly the texture determines p (lines test)
 
 
-def _fit_isotropy(crit: Criterion) -> _Fit:
-    """Section 11.4.1 as written: the orthographic inverse viewing transformation (p) that
-    makes the back-projected texture most isotropic; tilt mod 180."""
+def _fit_isotropy(crit: Criterion, fine: Spectra) -> _Fit:
+    """Section 11.4.1: the orthographic inverse viewing transformation (p) that makes the
+    texture isotropic; tilt mod 180. Deviation: p is the one that makes the fourth-order spectral
+    moment of ``fine`` isotropic (:func:`~texsynth.plane.spectra.moment_slant`: on the shared
+    textures it read half the slant the log-energy spread did at slant 0); its uncertainty is a
+    jackknife over groups of windows plus the textures' own anisotropy (``_MOMENT_FLOOR``)."""
+    st = moment_slant(fine)
+    # Delete-one-group jackknife over _GROUPS bands of neighbouring windows (nearly independent).
+    order = np.lexsort((fine.centres[:, 0], fine.centres[:, 1]))
+    groups = [g for g in np.array_split(order, _GROUPS) if len(g)]
+    rest = [moment_slant(Spectra(np.delete(fine.psd, g, axis=0), fine.w,
+                                 np.delete(fine.centres, g, axis=0), fine.size, fine.shape))
+            for g in groups] if len(groups) > 2 else []
+    d = np.array([(a - st[0], (b - st[1] + 90.0) % 180.0 - 90.0) for a, b in rest]).reshape(-1, 2)
+    cov = (len(d) - 1) / max(len(d), 1) * d.T @ d if len(d) else np.diag([90.0, 180.0]) ** 2
+    model = _MOMENT_FLOOR ** 2 * np.diag([1.0, 1.0 / max(math.sin(math.radians(st[0])), 0.1)
+                                           ** 2])
+    # How well the texture determines p at all (flat for white noise): the log-energy
+    # criterion's Gauss-Newton covariance there, with its remaining value as model error.
     zero = np.zeros(2)
-
-    def cost(p):
-        return crit.isotropy(p, zero)[0]
-
-    fit = minimize(cost, _grid_starts(cost, 180.0), 0.1)
-    _, raw, dof = crit.isotropy(fit.x, zero)
-    st = angles_from_gradient(fit.x)
-    cov = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
-                      max(fit.fun, 0.0))
-    return _Fit(fit.x, None, cov, True, True)
+    value, raw, dof = crit.isotropy(gradient(*st), zero)
+    observed = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
+                           max(value, 0.0))
+    return _Fit(gradient(*st), None, cov + model + observed, True, True, spread=cov + model)
 
 
 def _settle_direction(cost, criterion, fit, step):
@@ -176,7 +190,7 @@ def _fit_known_focal(crit: Criterion, f: float) -> _Fit:
     return _Fit(p, f, cov, evidence < _EVIDENCE, False)
 
 
-def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
+def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float) -> _Fit:
     """Homogeneity gives the vanishing line v = tan(slant) / f (tilt mod 360); isotropy at that
     tilt gives the slant, and so f. Without evidence of perspective: :func:`_fit_isotropy`."""
     def cost(q):
@@ -184,11 +198,11 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float) -> _Fit:
 
     fit = minimize(cost, _grid_starts(cost, 360.0, 2), 0.05)
     if math.hypot(*fit.x) < 1e-3:
-        return _fit_isotropy(crit)
+        return _fit_isotropy(crit, fine)
     q, evidence, raw, dof = _settle_direction(cost, lambda q: crit.homogeneity(q, q / f_ref),
                                               fit, 0.05)
     if evidence < _EVIDENCE:
-        return _fit_isotropy(crit)
+        return _fit_isotropy(crit, fine)
     v = q / f_ref
     direction = v / np.linalg.norm(v)
     iso = crit.band_limited(_ISO_W_MAX)
@@ -251,16 +265,17 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)
     mask = texture_mask(small)
-    crit = Criterion(spectra(small, mask, _W_MAX, _WINDOW))
+    fine = spectra(small, mask, _MOMENT_W_MAX, _WINDOW)
+    crit = Criterion(fine).band_limited(_W_MAX)
     found = []
     # A telephoto view (field of view under about 5 degrees) has no perspective left to read
     # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
     telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
     if method == "isotropy" or telephoto:
-        fit = _fit_isotropy(crit)
+        fit = _fit_isotropy(crit, fine)
     else:
         fit = _fit_known_focal(crit, focal_px / k) if focal_px is not None else \
-            _fit_unknown_focal(crit, float(max(small.shape)))
+            _fit_unknown_focal(crit, fine, float(max(small.shape)))
         # One family on its own was wrong more often than right (foreshortened texels line up
         # across the tilt): only two families enter.
         found = families(segments(small, mask), float(max(small.shape)))
@@ -275,7 +290,8 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k)
         if both is None or (anisotropy <= _ANISOTROPY_OK
-                            and _distance(both, fit, prior) > _CONFLICT):
+                            and _distance(both, fit, prior if fit.spread is None else
+                                          prior - fit.cov + fit.spread) > _CONFLICT):
             found = []  # impossible lines, or lines that contradict an isotropic texture
         else:
             fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
