@@ -88,6 +88,7 @@ _CONFLICT = 4.0      # sigmas: lines this far from the fit of an isotropic textu
 _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foreshortened axis most
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 _TELEPHOTO = 12.0    # focal lengths above this many image sides leave no usable perspective
+_F_MIN = 0.5         # image sides: the shortest focal length taken as possible (90 deg view)
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -210,9 +211,16 @@ def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float) -> _Fit:
     def slant_cost(slant):
         return iso.isotropy(math.tan(math.radians(slant)) * direction, v)[0]
 
-    grid = np.arange(2.5, 85.0, 5.0)
+    # Only slants whose focal length f = tan(slant) / |v| a camera can have (field of view
+    # under about 90 deg, not telephoto): isotropy alone has collapsed to slant ~0 (f of a few
+    # pixels) on textures whose own anisotropy masks the foreshortening.
+    lo, hi = (math.degrees(math.atan(k * f_ref * float(np.linalg.norm(v))))
+              for k in (_F_MIN, _TELEPHOTO))
+    lo, hi = min(max(lo, 0.5), 80.0), min(max(hi, 5.0), 85.0)
+    grid = np.linspace(lo, hi, 17)
     start = grid[int(np.argmin([slant_cost(s) for s in grid]))]
-    best = opt.minimize_scalar(slant_cost, bounds=(max(start - 5, 0.5), min(start + 5, 85.0)),
+    step = grid[1] - grid[0]
+    best = opt.minimize_scalar(slant_cost, bounds=(max(start - step, lo), min(start + step, hi)),
                                method="bounded", options={"xatol": 0.05})
     slant = float(best.x)
     p = math.tan(math.radians(slant)) * direction
