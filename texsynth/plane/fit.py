@@ -89,6 +89,8 @@ _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foresho
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 _TELEPHOTO = 12.0    # focal lengths above this many image sides leave no usable perspective
 _F_MIN = 0.5         # image sides: the shortest focal length taken as possible (90 deg view)
+_F_TYPICAL = 1.0     # image sides: a 36 mm-equivalent lens, between phones' 26 mm and a 50 mm
+_F_SPREAD = 0.5      # natural-log sd of that prior: 0.6 to 1.6 image sides within one sd
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -231,13 +233,22 @@ def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float) -> _Fit:
                                                                                  1e-12)
     cov_v = _covariance(_angles_cost(crit.homogeneity, lambda x: x / f_ref),
                         angles_from_gradient(q), (1.5, 3.0), raw, dof)
-    cov = np.diag([var_slant, cov_v[1, 1]])
+    # The focal lengths cameras have (_F_TYPICAL image sides, log sd _F_SPREAD) as a prior on
+    # the slant along the vanishing line, against the isotropy slant and its own sd.
+    norm_v = float(np.linalg.norm(v))
+    var_iso = var_slant + _ISOTROPY_FLOOR ** 2
+    prior = math.atan(_F_TYPICAL * f_ref * norm_v)
+    var_prior = math.degrees(math.sin(prior) * math.cos(prior) * _F_SPREAD) ** 2
+    var_post = 1.0 / (1.0 / var_iso + 1.0 / var_prior)
+    slant = var_post * (slant / var_iso + math.degrees(prior) / var_prior)
+    p = math.tan(math.radians(slant)) * direction
+    cov = np.diag([var_post, cov_v[1, 1]])
     # f = tan(slant) / |v|: relative error from the slant and from |v| (the slant of q).
     s_v = math.radians(angles_from_gradient(q)[0])
     rel_v = math.sqrt(cov_v[0, 0]) * math.pi / 180 / (math.sin(s_v) * math.cos(s_v) + 1e-9)
-    rel_s = math.sqrt(var_slant + _ISOTROPY_FLOOR ** 2) * math.pi / 180 / (
+    rel_s = math.sqrt(var_post) * math.pi / 180 / (
         math.sin(math.radians(slant)) * math.cos(math.radians(slant)) + 1e-9)
-    return _Fit(p, float(math.tan(math.radians(slant)) / np.linalg.norm(v)), cov, False, True,
+    return _Fit(p, float(math.tan(math.radians(slant)) / norm_v), cov, False, True,
                 math.hypot(rel_v, rel_s))
 
 
