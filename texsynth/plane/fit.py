@@ -11,9 +11,14 @@ must look the same everywhere on the plane, so the scale gradient of texels acro
 the receding direction (tilt mod 360), refines slant, and with isotropy at the centre gives the
 focal length when it is unknown.
 
-Deviation from the section, in one line: a slant found by isotropy is uncertain by at least the
-change that costs as much isotropy as the texture's own remaining anisotropy (the assumption's
-failure is an error, not noise).
+Deviations from the section, one line each:
+- a slant found by isotropy is uncertain by at least the change that costs as much isotropy as
+  the texture's own remaining anisotropy (the assumption's failure is an error, not noise);
+- orthographic isotropy is read from a fourth-order spectral moment, not the log-energy spread
+  (:func:`~texsynth.plane.spectra.moment_slant`);
+- with the focal length unknown, a prior over the focal lengths cameras have weighs the isotropy
+  slant along the vanishing line that homogeneity gives (on the renders, homogeneity alone was
+  nearly flat in slant for a fixed vanishing line, leaning to long focal lengths).
 """
 
 from __future__ import annotations
@@ -79,7 +84,7 @@ _WINDOW = 48         # analysis window side (reduced image px): 48 beat 32 and 6
 _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist is 0.5)
 _MOMENT_W_MAX = 0.71  # the orthographic moment uses the whole periodogram, corners included
 _GROUPS = 8          # jackknife groups of windows for the moment estimate's uncertainty
-_MOMENT_FLOOR = 6.0  # deg: the textures' own anisotropy read as slant by the moment (slant >= 20)
+_MOMENT_FLOOR = 6.0  # deg: textures' own anisotropy, read as slant by the moment (slant >= 20)
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
@@ -195,7 +200,9 @@ def _fit_known_focal(crit: Criterion, f: float) -> _Fit:
 
 def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float) -> _Fit:
     """Homogeneity gives the vanishing line v = tan(slant) / f (tilt mod 360); isotropy at that
-    tilt gives the slant, and so f. Without evidence of perspective: :func:`_fit_isotropy`."""
+    tilt gives the slant, weighed against a prior over cameras' focal lengths (where isotropy is
+    weak, f falls back to a typical lens rather than a wrong one), and so f. Without evidence of
+    perspective: :func:`_fit_isotropy`."""
     def cost(q):
         return crit.homogeneity(q, q / f_ref)[0]
 
