@@ -255,8 +255,9 @@ def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float) -> _Fit:
     rel_v = math.sqrt(cov_v[0, 0]) * math.pi / 180 / (math.sin(s_v) * math.cos(s_v) + 1e-9)
     rel_s = math.sqrt(var_post) * math.pi / 180 / (
         math.sin(math.radians(slant)) * math.cos(math.radians(slant)) + 1e-9)
+    # Lines are tested against what the texture says, not against the prior.
     return _Fit(p, float(math.tan(math.radians(slant)) / norm_v), cov, False, True,
-                math.hypot(rel_v, rel_s))
+                math.hypot(rel_v, rel_s), spread=np.diag([var_slant, cov_v[1, 1]]))
 
 
 def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -> PlaneEstimate:
