@@ -95,7 +95,7 @@ _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy
 _TELEPHOTO = 12.0    # focal lengths above this many image sides leave no usable perspective
 _F_MIN = 0.5         # image sides: the shortest focal length taken as possible (90 deg view)
 _F_TYPICAL = 1.0     # image sides: a 36 mm-equivalent lens, between phones' 26 mm and a 50 mm
-_F_SPREAD = 0.5      # natural-log sd of that prior: 0.6 to 1.6 image sides within one sd
+_F_SPREAD = 0.7      # natural-log sd of that prior: 0.5 to 2 image sides within one sd
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
