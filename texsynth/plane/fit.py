@@ -355,10 +355,10 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
     errors of the stated sigmas; the tilt factor is 1 when tilt is only claimed mod 180.
     """
-    s_slant = math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor)
+    s_slant = min(90.0, math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor))  # slant is in [0, 90)
     s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), floor))
     if isotropy_based:
-        s_slant = math.hypot(s_slant, _ISOTROPY_FLOOR)
+        s_slant = min(90.0, math.hypot(s_slant, _ISOTROPY_FLOOR))
     s_normal = math.hypot(s_slant, math.sin(math.radians(slant)) * s_tilt)
     confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)  # floor: _SYSTEMATIC or wider
     confidence *= math.erf(30.0 / (s_tilt * math.sqrt(2.0)))
