@@ -11,9 +11,14 @@ must look the same everywhere on the plane, so the scale gradient of texels acro
 the receding direction (tilt mod 360), refines slant, and with isotropy at the centre gives the
 focal length when it is unknown.
 
-Deviation from the section, in one line: a slant found by isotropy is uncertain by at least the
-change that costs as much isotropy as the texture's own remaining anisotropy (the assumption's
-failure is an error, not noise).
+Deviations from the section, one line each:
+- a slant found by isotropy is uncertain by at least the change that costs as much isotropy as
+  the texture's own remaining anisotropy (the assumption's failure is an error, not noise);
+- orthographic isotropy is read from a fourth-order spectral moment, not the log-energy spread
+  (:func:`~texsynth.plane.spectra.moment_slant`);
+- with the focal length unknown, a prior over the focal lengths cameras have weighs the isotropy
+  slant along the vanishing line that homogeneity gives (on the renders, homogeneity alone was
+  nearly flat in slant for a fixed vanishing line, leaning to long focal lengths).
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .lines import LineCost, families, horizon_through, segments, spaced_horizon
 from .search import evaluate, hessian, minimize, minimize_then
-from .spectra import Criterion, downsample, luminance, spectra, texture_mask
+from .spectra import Criterion, Spectra, downsample, luminance, moment_slant, spectra, texture_mask
 
 __all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
 
@@ -77,6 +82,9 @@ class PlaneEstimate:
 
 _WINDOW = 48         # analysis window side (reduced image px): 48 beat 32 and 64 on renders
 _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist is 0.5)
+_MOMENT_W_MAX = 0.71  # the orthographic moment uses the whole periodogram, corners included
+_GROUPS = 8          # jackknife groups of windows for the moment estimate's uncertainty
+_MOMENT_FLOOR = 6.0  # deg: textures' own anisotropy, read as slant by the moment (slant >= 20)
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
@@ -85,6 +93,9 @@ _CONFLICT = 4.0      # sigmas: lines this far from the fit of an isotropic textu
 _ISO_W_MAX = 0.3     # cycles/px: above this a pixel footprint blurs the foreshortened axis most
 _ISOTROPY_FLOOR = 6.0  # deg: extra uncertainty when slant rests on the isotropy assumption
 _TELEPHOTO = 12.0    # focal lengths above this many image sides leave no usable perspective
+_F_MIN = 0.5         # image sides: the shortest focal length taken as possible (90 deg view)
+_F_TYPICAL = 1.0     # image sides: a 36 mm-equivalent lens, between phones' 26 mm and a 50 mm
+_F_SPREAD = 0.7      # natural-log sd of that prior: 0.5 to 2 image sides within one sd
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -130,22 +141,33 @@ class _Fit:
     ambiguous: bool
     isotropy_based: bool
     focal_sd: float | None = None  # relative
+    spread: np.ndarray | None = None  # cov less how weakly the texture determines p (lines test)
 
 
-def _fit_isotropy(crit: Criterion) -> _Fit:
-    """Section 11.4.1 as written: the orthographic inverse viewing transformation (p) that
-    makes the back-projected texture most isotropic; tilt mod 180."""
+def _fit_isotropy(crit: Criterion, fine: Spectra) -> _Fit:
+    """Section 11.4.1: the orthographic inverse viewing transformation (p) that makes the
+    texture isotropic; tilt mod 180. Deviation: p is the one that makes the fourth-order spectral
+    moment of ``fine`` isotropic (:func:`~texsynth.plane.spectra.moment_slant`: on the shared
+    textures it read half the slant the log-energy spread did at slant 0); its uncertainty is a
+    jackknife over groups of windows plus the textures' own anisotropy (``_MOMENT_FLOOR``)."""
+    st = moment_slant(fine)
+    # Delete-one-group jackknife over _GROUPS bands of neighbouring windows (nearly independent).
+    order = np.lexsort((fine.centres[:, 0], fine.centres[:, 1]))
+    groups = [g for g in np.array_split(order, _GROUPS) if len(g)]
+    rest = [moment_slant(Spectra(np.delete(fine.psd, g, axis=0), fine.w,
+                                 np.delete(fine.centres, g, axis=0), fine.size, fine.shape))
+            for g in groups] if len(groups) > 2 else []
+    d = np.array([(a - st[0], (b - st[1] + 90.0) % 180.0 - 90.0) for a, b in rest]).reshape(-1, 2)
+    cov = (len(d) - 1) / max(len(d), 1) * d.T @ d if len(d) else np.diag([90.0, 180.0]) ** 2
+    model = _MOMENT_FLOOR ** 2 * np.diag([1.0, 1.0 / max(math.sin(math.radians(st[0])), 0.1)
+                                           ** 2])
+    # How well the texture determines p at all (flat for white noise): the log-energy
+    # criterion's Gauss-Newton covariance there, with its remaining value as model error.
     zero = np.zeros(2)
-
-    def cost(p):
-        return crit.isotropy(p, zero)[0]
-
-    fit = minimize(cost, _grid_starts(cost, 180.0), 0.1)
-    _, raw, dof = crit.isotropy(fit.x, zero)
-    st = angles_from_gradient(fit.x)
-    cov = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
-                      max(fit.fun, 0.0))
-    return _Fit(fit.x, None, cov, True, True)
+    value, raw, dof = crit.isotropy(gradient(*st), zero)
+    observed = _covariance(_angles_cost(crit.isotropy, lambda p: zero), st, (1.5, 3.0), raw, dof,
+                           max(value, 0.0))
+    return _Fit(gradient(*st), None, cov + model + observed, True, True, spread=cov + model)
 
 
 def _settle_direction(cost, criterion, starts, step):
@@ -197,10 +219,12 @@ def _fit_known_focal(crit: Criterion, f: float, v_spaced=None) -> _Fit:
     return _Fit(p, f, cov, evidence < _EVIDENCE and v_spaced is None, False)
 
 
-def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
+def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float, v_spaced=None) -> _Fit:
     """Homogeneity gives the vanishing line v = tan(slant) / f (tilt mod 360; or a line
-    family's spacing gave it, ``v_spaced``); isotropy at that tilt gives the slant, and so f.
-    Without evidence of perspective: :func:`_fit_isotropy`."""
+    family's spacing gave it, ``v_spaced``); isotropy at that tilt gives the slant, weighed
+    against a prior over cameras' focal lengths (where isotropy is weak, f falls back to a
+    typical lens rather than a wrong one), and so f. Without evidence of perspective:
+    :func:`_fit_isotropy`."""
     def cost(q):
         return crit.homogeneity(q, q / f_ref)[0]
 
@@ -211,7 +235,7 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
         fit, q, evidence, raw, dof = _settle_direction(
             cost, lambda q: crit.homogeneity(q, q / f_ref), _grid_starts(cost, 360.0, 2), 0.05)
         if math.hypot(*fit.x) < 1e-3 or evidence < _EVIDENCE:
-            return _fit_isotropy(crit)
+            return _fit_isotropy(crit, fine)
     v = q / f_ref
     direction = v / np.linalg.norm(v)
     iso = crit.band_limited(_ISO_W_MAX)
@@ -219,9 +243,16 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
     def slant_cost(slant):
         return iso.isotropy(math.tan(math.radians(slant)) * direction, v)[0]
 
-    grid = np.arange(2.5, 85.0, 5.0)
+    # Only slants whose focal length f = tan(slant) / |v| a camera can have (field of view
+    # under about 90 deg, not telephoto): isotropy alone has collapsed to slant ~0 (f of a few
+    # pixels) on textures whose own anisotropy masks the foreshortening.
+    lo, hi = (math.degrees(math.atan(k * f_ref * float(np.linalg.norm(v))))
+              for k in (_F_MIN, _TELEPHOTO))
+    lo, hi = min(max(lo, 0.5), 80.0), min(max(hi, 5.0), 85.0)
+    grid = np.linspace(lo, hi, 17)
     start = grid[int(np.argmin(evaluate(slant_cost, grid)))]
-    best = opt.minimize_scalar(slant_cost, bounds=(max(start - 5, 0.5), min(start + 5, 85.0)),
+    step = grid[1] - grid[0]
+    best = opt.minimize_scalar(slant_cost, bounds=(max(start - step, lo), min(start + step, hi)),
                                method="bounded", options={"xatol": 0.05})
     slant = float(best.x)
     p = math.tan(math.radians(slant)) * direction
@@ -232,14 +263,24 @@ def _fit_unknown_focal(crit: Criterion, f_ref: float, v_spaced=None) -> _Fit:
                                                                                  1e-12)
     cov_v = _covariance(_angles_cost(crit.homogeneity, lambda x: x / f_ref),
                         angles_from_gradient(q), (1.5, 3.0), raw, dof)
-    cov = np.diag([var_slant, cov_v[1, 1]])
+    # The focal lengths cameras have (_F_TYPICAL image sides, log sd _F_SPREAD) as a prior on
+    # the slant along the vanishing line, against the isotropy slant and its own sd.
+    norm_v = float(np.linalg.norm(v))
+    var_iso = var_slant + _ISOTROPY_FLOOR ** 2
+    prior = math.atan(_F_TYPICAL * f_ref * norm_v)
+    var_prior = math.degrees(math.sin(prior) * math.cos(prior) * _F_SPREAD) ** 2
+    var_post = 1.0 / (1.0 / var_iso + 1.0 / var_prior)
+    slant = var_post * (slant / var_iso + math.degrees(prior) / var_prior)
+    p = math.tan(math.radians(slant)) * direction
+    cov = np.diag([var_post, cov_v[1, 1]])
     # f = tan(slant) / |v|: relative error from the slant and from |v| (the slant of q).
     s_v = math.radians(angles_from_gradient(q)[0])
     rel_v = math.sqrt(cov_v[0, 0]) * math.pi / 180 / (math.sin(s_v) * math.cos(s_v) + 1e-9)
-    rel_s = math.sqrt(var_slant + _ISOTROPY_FLOOR ** 2) * math.pi / 180 / (
+    rel_s = math.sqrt(var_post) * math.pi / 180 / (
         math.sin(math.radians(slant)) * math.cos(math.radians(slant)) + 1e-9)
-    return _Fit(p, float(math.tan(math.radians(slant)) / np.linalg.norm(v)), cov, False, True,
-                math.hypot(rel_v, rel_s))
+    # Lines are tested against what the texture says, not against the prior.
+    return _Fit(p, float(math.tan(math.radians(slant)) / norm_v), cov, False, True,
+                math.hypot(rel_v, rel_s), spread=np.diag([var_slant, cov_v[1, 1]]))
 
 
 def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -> PlaneEstimate:
@@ -274,19 +315,20 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)
     mask = texture_mask(small)
-    crit = Criterion(spectra(small, mask, _W_MAX, _WINDOW))
+    fine = spectra(small, mask, _MOMENT_W_MAX, _WINDOW)
+    crit = Criterion(fine).band_limited(_W_MAX)
     found, spaced = [], None
     # A telephoto view (field of view under about 5 degrees) has no perspective left to read
     # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
     telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
     if method == "isotropy" or telephoto:
-        fit = _fit_isotropy(crit)
+        fit = _fit_isotropy(crit, fine)
     else:
         side = float(max(small.shape))
 
         def texture_fit(v_spaced=None):
             return _fit_known_focal(crit, focal_px / k, v_spaced) if focal_px is not None \
-                else _fit_unknown_focal(crit, side, v_spaced)
+                else _fit_unknown_focal(crit, fine, side, v_spaced)
 
         fit = texture_fit()
         found = families(segments(small, mask), side)
@@ -315,7 +357,8 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k)
         if both is None or (anisotropy <= _ANISOTROPY_OK
-                            and _distance(both, fit, prior) > _CONFLICT):
+                            and _distance(both, fit, prior if fit.spread is None else
+                                          prior - fit.cov + fit.spread) > _CONFLICT):
             found = []  # impossible lines, or lines that contradict an isotropic texture
         else:
             fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
@@ -352,10 +395,10 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
     errors of the stated sigmas; the tilt factor is 1 when tilt is only claimed mod 180.
     """
-    s_slant = math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor)
+    s_slant = min(90.0, math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor))  # slant is in [0, 90)
     s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), floor))
     if isotropy_based:
-        s_slant = math.hypot(s_slant, _ISOTROPY_FLOOR)
+        s_slant = min(90.0, math.hypot(s_slant, _ISOTROPY_FLOOR))
     s_normal = math.hypot(s_slant, math.sin(math.radians(slant)) * s_tilt)
     confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)  # floor: _SYSTEMATIC or wider
     confidence *= math.erf(30.0 / (s_tilt * math.sqrt(2.0)))
