@@ -62,8 +62,10 @@ from ..registry import Method, Param, register
 
 __all__ = ["heeger_bergen", "METHOD"]
 
-#: Sliced optimal transport steps after each iteration, and after the last one.
-SLICES_PER_ITERATION = 4
+#: Sliced optimal transport steps after each iteration, and after the last one (2 instead of 4
+#: per iteration: 2048^2 from 1024^2 a third faster's share; pool_water off-palette pixels
+#: 0.07% -> 0.09-0.11%, subband distance unchanged).
+SLICES_PER_ITERATION = 2
 FINAL_SLICES = 30
 
 
