@@ -50,6 +50,9 @@ __all__ = [
     "Relaxation",
 ]
 
+#: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
+BLOCK = 1 << 16
+
 #: Optimal Golomb rulers: marks whose pairwise differences are all distinct (index = count).
 GOLOMB = (
     (), (0,), (0, 1), (0, 1, 3), (0, 1, 4, 6), (0, 1, 4, 9, 11), (0, 1, 4, 10, 12, 17),
@@ -357,26 +360,29 @@ class Relaxation:
             y = self._propose(x, rng)
             lx, ly = self.level_of[x], self.level_of[y]
             de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts)
-            bn = bo = None
             if t:
-                nb = self.pad[padded[:, None] + self._reach]
-                bo = self._sign * (nb - x[:, None]) + self._base
-                bn = self._sign * (nb - y[:, None]) + self._base
-                delta = grad[bn]
-                delta -= grad[bo]
-                if part is not None:
-                    delta *= part
-                de += delta.sum(axis=1)
+                # in blocks of rows: the (rows, 2T) temporaries stay in cache
+                step = max(1024, BLOCK // (2 * t))
+                for a in range(0, x.size, step):
+                    b = slice(a, a + step)
+                    bo, bn = self._bins(padded[b], x[b], y[b])
+                    delta = grad[bn]
+                    delta -= grad[bo]
+                    if part is not None:
+                        delta *= part[b]
+                    de[b] += delta.sum(axis=1)
             total += x.size
             accept = np.flatnonzero(de < 0)
             accept = accept[np.argsort(de[accept], kind="stable")]
+            bo, bn = self._bins(padded[accept], x[accept], y[accept]) if t else (None, None)
+            part_a = None if part is None else part[accept]
             # backtracking: the improving pixels' changes add up exactly in the histograms, so
             # the true change of E is known; while it is not a decrease (many pixels moving mass
             # into the same bins overshoot), keep only the better half
             while accept.size:
                 d_s = (np.bincount(ly[accept], minlength=len(self.levels))
                        - np.bincount(lx[accept], minlength=len(self.levels)))
-                d_c = self._count_change(bn, bo, part, accept)
+                d_c = self._count_change(bn, bo, part_a, accept.size)
                 if self._change(d_c, d_s) < 0:
                     break
                 accept = accept[:accept.size // 2]
@@ -389,14 +395,23 @@ class Relaxation:
             self.counts += d_c
         return changed / max(total, 1)
 
-    def _count_change(self, bn, bo, part, accept) -> np.ndarray:
-        """Change of the term counts (T, bins) when the pixels ``accept`` of a set change."""
+    def _bins(self, padded, x, y):
+        """(old, new) bins in the flat (T, bins) counts of the 2T cliques of each pixel at
+        ``padded``, valued ``x`` now and ``y`` if it changes (int32, (pixels, 2T))."""
+        nb = self.pad[padded[:, None] + self._reach]
+        bo = self._sign * (nb - x[:, None]) + self._base
+        bn = self._sign * (nb - y[:, None]) + self._base
+        return bo, bn
+
+    def _count_change(self, bn, bo, part, first) -> np.ndarray:
+        """Change of the term counts (T, bins) when the pixels of the ``first`` rows of the
+        bins ``bn``, ``bo`` (and the takes-part mask ``part``) change."""
         t = len(self.terms)
         if not t:
             return np.zeros((0, self.bins))
-        bn, bo = bn[accept], bo[accept]
+        bn, bo = bn[:first], bo[:first]
         if part is not None:
-            keep = part[accept]
+            keep = part[:first]
             bn, bo = bn[keep], bo[keep]
         size = t * self.bins
         return (np.bincount(bn.ravel(), minlength=size)
