@@ -299,6 +299,12 @@ class Relaxation:
         self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
             t, self.bins)
         self.singleton_target = np.asarray(singleton, np.float64) / np.sum(singleton)
+        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
+        # and enters, paid by every clique of a pixel that changes value (the pairs per term
+        # never change, so each pixel's sum over the cliques it takes part in is fixed)
+        second = np.tile(2.0 / self.pairs ** 2, 2)
+        self._second_all = second.sum()
+        self._second_part = None if self._takes_part is None else self._takes_part @ second
         self.n_free = max(int(free.sum()), 1)
         self.singleton_counts = np.bincount(self.level_of[core_u[free]],
                                             minlength=len(self.levels)).astype(np.float64)
@@ -333,13 +339,9 @@ class Relaxation:
         random translation; returns the fraction of changed pixels."""
         changed = total = 0
         t = len(self.terms)
-        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
-        # and enters, paid by every clique of a pixel that changes value
-        second = np.tile(2.0 / self.pairs ** 2, 2)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
-        all_second = second.sum()
         # a fixed order of the sets would carry changes one way across the lattice
         for k in rng.permutation(len(self.sets)):
             rows, cols = self.sets[k]
@@ -351,8 +353,8 @@ class Relaxation:
                 if not flat.size:
                     continue
             padded = (rows + m) * wp + cols + m
-            part = None if self._takes_part is None else self._takes_part[flat]
-            parts = all_second if part is None else part @ second
+            part = self._takes_part  # (pixels, 2T): p takes part in the clique (or None: all do)
+            parts = self._second_all if part is None else self._second_part[flat]
             grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
                     / self.pairs[:, None]).astype(np.float32).ravel()
             g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
@@ -369,13 +371,13 @@ class Relaxation:
                     delta = grad[bn]
                     delta -= grad[bo]
                     if part is not None:
-                        delta *= part[b]
+                        delta *= part[flat[b]]
                     de[b] += delta.sum(axis=1)
             total += x.size
             accept = np.flatnonzero(de < 0)
             accept = accept[np.argsort(de[accept], kind="stable")]
             bo, bn = self._bins(padded[accept], x[accept], y[accept]) if t else (None, None)
-            part_a = None if part is None else part[accept]
+            part_a = None if part is None else part[flat[accept]]
             # backtracking: the improving pixels' changes add up exactly in the histograms, so
             # the true change of E is known; while it is not a decrease (many pixels moving mass
             # into the same bins overshoot), keep only the better half
