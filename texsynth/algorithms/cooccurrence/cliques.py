@@ -304,7 +304,11 @@ class Relaxation:
         # never change, so each pixel's sum over the cliques it takes part in is fixed)
         second = np.tile(2.0 / self.pairs ** 2, 2)
         self._second_all = second.sum()
-        self._second_part = None if self._takes_part is None else self._takes_part @ second
+        self._second_part = None
+        if self._takes_part is not None:  # column by column: a float (pixels, 2T) copy is GBs
+            self._second_part = np.zeros(h * w)
+            for j, weight in enumerate(second):
+                self._second_part[self._takes_part[:, j]] += weight
         self.n_free = max(int(free.sum()), 1)
         self.singleton_counts = np.bincount(self.level_of[core_u[free]],
                                             minlength=len(self.levels)).astype(np.float64)
