@@ -44,8 +44,7 @@ Deviations, one line each:
 - production sizes (multiresolution relaxation, as ``texsynth.cooccurrence``): with
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
   filled at half size (exemplar, labels and output labels halved), upsampled, and relaxed from
-  there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise; the label texture
-  likewise (its model at twice the label scale, half the size, upsampled, refined).
+  there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise.
 """
 
 from __future__ import annotations
@@ -105,11 +104,10 @@ PARAMS = (
 
 
 def memory(shape, width, height, params) -> float:
-    """Peak bytes: the clique model's working set, the label maps, which (term, end)
-    columns each pixel takes part in (2 bytes per selected type and pixel) and their summed
-    second-order weight (a float64 per pixel)."""
+    """Peak bytes: the clique model's working set, the label maps, and which (term, end)
+    columns each pixel takes part in (2 bytes per selected type and pixel)."""
     return (CLIQUE_MODEL.memory(shape, width, height, params)
-            + (24 + 2 * params["max_cliques"]) * width * height)
+            + (16 + 2 * params["max_cliques"]) * width * height)
 
 
 @dataclass(frozen=True)
@@ -205,30 +203,13 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     classes = int(labels.max()) + 1
     f = label_scale or int(np.clip(round(_run_length(labels) / max_offset), 1, 8))
     f = max(1, min(f, min(labels.shape) // 32 or 1))
-    shape = (-(-height // f), -(-width // f))
-    params = dict(max_offset=max_offset, threshold=threshold, max_cliques=max_cliques)
-    out = _label_texture(labels, classes, f, shape, rng, sweeps, params, report)
-    return _upscale(out, height, width, classes) if f > 1 else out
-
-
-def _label_texture(labels, classes, f, shape, rng, sweeps, params, report) -> np.ndarray:
-    """Labels of ``shape`` synthesized from the clique model of ``labels`` at scale ``f``;
-    above ``COARSE_PIXELS`` from the model at scale 2f synthesized at half size (recursively),
-    upsampled, and relaxed for ``REFINE_SWEEPS`` sweeps, when scale 2f keeps every class."""
     small = _downscale(labels, f, classes) if f > 1 else labels
-    model = co.fit_labels(small, classes, seed=rng, progress=report.span(0.0, 0.2), **params)
-    channel = model.channels[0]
-    start = None
-    if (shape[0] * shape[1] > COARSE_PIXELS and min(labels.shape) // (2 * f) >= 32
-            and set(np.unique(_downscale(labels, 2 * f, classes))) == set(np.unique(small))):
-        half = (-(-shape[0] // 2), -(-shape[1] // 2))
-        coarse = _label_texture(labels, classes, 2 * f, half, rng, sweeps, params,
-                                report.span(0.2, 0.6))
-        start = channel.levels[_upscale(coarse, shape[0], shape[1], classes)]
-        sweeps = min(sweeps, REFINE_SWEEPS)
-        report = report.span(0.6, 1.0)
-    marks = co.synthesize_channel(channel, shape, rng, sweeps, report.span(0.2, 1.0), start)
-    return channel.decode(marks, rng)
+    model = co.fit_labels(small, classes, seed=rng, max_offset=max_offset, threshold=threshold,
+                          max_cliques=max_cliques, progress=report.span(0.0, 0.3))
+    shape = (-(-height // f), -(-width // f))
+    marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
+    out = model.channels[0].decode(marks, rng)
+    return _upscale(out, height, width, classes) if f > 1 else out
 
 
 # --- the subtextures --------------------------------------------------------------------------
