@@ -37,6 +37,9 @@ Deviations, one line each:
 - ``threshold`` is in units of the median distance from an exemplar parent structure to its
   nearest other one, so its meaning does not depend on the level or the texture;
 - when no exemplar location is within ``threshold``, the nearest parent structure's is copied;
+- the ball is searched approximately (kd-tree ``eps`` = ``EPS``): only true members are drawn,
+  some may be missed (at 512 -> 1024 on gravel: 25% less CPU, patch and structure distances
+  unchanged or lower);
 - the exemplar pyramid is built from its periodic component (Moisan), so the border jump of a
   non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
@@ -65,6 +68,9 @@ __all__ = [
 CHUNK = 1 << 14
 #: Principal components of the parent structure the search compares.
 MAX_DIMS = 6
+#: Approximation of the kd-tree search (scipy's ``eps``): a ball member may be missed
+#: where a nearer-than-``(1 + EPS)``-times candidate was found first.
+EPS = 1.0
 
 
 def _per_channel(level: int, top: int, orientations: int) -> int:
@@ -134,14 +140,17 @@ class BallSampler:
     fast. The ball of a batch of queries is gathered by k-nearest queries bounded by the
     radius, k growing along ``ladder`` only for the queries whose ball is larger, so memory
     stays bounded; balls larger than the ladder are sampled by rejection, whose acceptance is
-    then at least ``ladder[-1] / len(points)``.
+    then at least ``ladder[-1] / len(points)``. ``eps`` > 0 searches approximately (scipy's
+    ``eps``): draws stay inside the ball but may miss some of its points.
     """
 
     ladder = (16, 256, 4096)
     #: neighbours returned by one tree query call (16 bytes each)
     batch = 1 << 18
 
-    def __init__(self, points: np.ndarray, energy: float = 0.99, max_dims: int = MAX_DIMS):
+    def __init__(self, points: np.ndarray, energy: float = 0.99, max_dims: int = MAX_DIMS,
+                 eps: float = 0.0):
+        self.eps = eps
         points = np.asarray(points, dtype=np.float64)
         self.mean = points.mean(axis=0)
         stride = max(1, len(points) // 20000)
@@ -176,7 +185,7 @@ class BallSampler:
             larger = []
             for batch in np.array_split(todo, max(1, -(-len(todo) * k // self.batch))):
                 dist, idx = self.tree.query(queries[batch], k=k, distance_upper_bound=bound,
-                                             workers=-1)
+                                             eps=self.eps, workers=-1)
                 inside = dist.reshape(len(batch), k) <= self.radius
                 c = inside.sum(axis=1)
                 complete = (c < k) | (k == self.tree.n)
@@ -232,7 +241,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         scale = {a: 1.0 / (np.sqrt(np.mean(flat[a].var(axis=0))) + 1e-30) for a in ancestors}
         exemplar_parents = parent_structure(flat, identity, level, depth, scale, ex_shapes[level],
                                             np.arange(len(flat[level])))
-        sampler = BallSampler(exemplar_parents)
+        sampler = BallSampler(exemplar_parents, eps=EPS)
         sampler.radius = threshold * sampler.spacing()
         h, w = out_shapes[level]
         src = np.empty(h * w, np.int32)

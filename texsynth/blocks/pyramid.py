@@ -12,7 +12,7 @@ roots of raised cosines on log2 |w| so that ``H_j^2 + L_j^2 = 1`` and the pyrami
 synthesis is the adjoint of analysis and reconstructs exactly (to float32 rounding).
 
 Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
-- real FFTs (``rfft2``) and float32 / complex64 throughout;
+- real FFTs (``rfft2``, on every core) and float32 / complex64 throughout;
 - radii are measured in cycles per pixel of the *full-resolution* grid, and each decimation crops
   the spectrum and rescales it by the ratio of sizes, so band values are samples of the same
   band-limited function whatever the image size. An exemplar and an output of different sizes
@@ -28,6 +28,16 @@ import numpy as np
 import scipy.fft as sfft
 
 __all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
+
+
+def _rfft2(image: np.ndarray) -> np.ndarray:
+    """scipy's real FFT on every core (rows and columns are independent transforms, so the
+    result does not depend on the number of threads)."""
+    return sfft.rfft2(image, workers=-1)
+
+
+def _irfft2(spectrum: np.ndarray, s) -> np.ndarray:
+    return sfft.irfft2(spectrum, s=s, workers=-1)
 
 
 def max_scales(shape: tuple[int, int]) -> int:
@@ -153,33 +163,33 @@ class SteerablePyramid:
         image = np.asarray(image, dtype=np.float32)
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
-        spectrum = sfft.rfft2(image)
-        highpass = sfft.irfft2(spectrum * self.hi0, s=self.shape)
+        spectrum = _rfft2(image)
+        highpass = _irfft2(spectrum * self.hi0, s=self.shape)
         low = spectrum * self.lo0
         bands = []
         for j in range(self.scales):
             shape_j = self.level_shapes[j]
             phased = low * np.complex64(self.phase)  # every band of a level shares (-i)^(K-1)
-            bands.append([sfft.irfft2(phased * f, s=shape_j) for f in self.band_filters[j]])
+            bands.append([_irfft2(phased * f, s=shape_j) for f in self.band_filters[j]])
             low = self._crop(low * self.low_masks[j], j)
-        lowpass = sfft.irfft2(low, s=self.level_shapes[self.scales])
+        lowpass = _irfft2(low, s=self.level_shapes[self.scales])
         return Coefficients(highpass, bands, lowpass)
 
     def synthesize(self, coeffs: Coefficients) -> np.ndarray:
         """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
-        low = sfft.rfft2(coeffs.lowpass.astype(np.float32, copy=False))
+        low = _rfft2(coeffs.lowpass.astype(np.float32, copy=False))
         conj_phase = np.complex64(np.conj(self.phase))
         for j in reversed(range(self.scales)):
             bands = np.zeros_like(low, shape=(self.level_shapes[j][0],
                                               self.level_shapes[j][1] // 2 + 1))
             for f, band in zip(self.band_filters[j], coeffs.bands[j], strict=True):
-                bands += sfft.rfft2(band.astype(np.float32, copy=False)) * f
+                bands += _rfft2(band.astype(np.float32, copy=False)) * f
             bands *= conj_phase
             low = self._embed(low, j) * self.low_masks[j]
             low += bands
-        high = sfft.rfft2(coeffs.highpass.astype(np.float32, copy=False))
+        high = _rfft2(coeffs.highpass.astype(np.float32, copy=False))
         spectrum = low * self.lo0 + high * self.hi0
-        return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+        return _irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
 
 
 # --- Laplacian pyramid ------------------------------------------------------------------------
@@ -224,24 +234,24 @@ class LaplacianPyramid:
         image = np.asarray(image, dtype=np.float32)
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
-        spectrum = sfft.rfft2(image)
+        spectrum = _rfft2(image)
         levels = []
         for j in range(self.scales):
             low = spectrum * self.low_masks[j]
-            levels.append(sfft.irfft2(spectrum - low, s=self.level_shapes[j]))
+            levels.append(_irfft2(spectrum - low, s=self.level_shapes[j]))
             child = self.level_shapes[j + 1]
             spectrum = low[self.crop_rows[j], : child[1] // 2 + 1] * self._ratio(j)
-        levels.append(sfft.irfft2(spectrum, s=self.level_shapes[self.scales]))
+        levels.append(_irfft2(spectrum, s=self.level_shapes[self.scales]))
         return levels
 
     def synthesize(self, levels: list[np.ndarray]) -> np.ndarray:
         """Algorithm 11.2: from the coarsest level, upsample and add each finer level."""
-        spectrum = sfft.rfft2(np.asarray(levels[-1], dtype=np.float32))
+        spectrum = _rfft2(np.asarray(levels[-1], dtype=np.float32))
         for j in reversed(range(self.scales)):
             parent, child = self.level_shapes[j], self.level_shapes[j + 1]
             up = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
             up[self.crop_rows[j], : child[1] // 2 + 1] = spectrum / self._ratio(j)
-            spectrum = up + sfft.rfft2(np.asarray(levels[j], dtype=np.float32))
-        return sfft.irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+            spectrum = up + _rfft2(np.asarray(levels[j], dtype=np.float32))
+        return _irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
 
 

@@ -104,10 +104,11 @@ PARAMS = (
 
 
 def memory(shape, width, height, params) -> float:
-    """Peak bytes: the clique model's working set, the label maps, and which (term, end)
-    columns each pixel takes part in (2 bytes per selected type and pixel)."""
+    """Peak bytes: the clique model's working set, the label maps, which (term, end)
+    columns each pixel takes part in (2 bytes per selected type and pixel) and their summed
+    second-order weight (a float64 per pixel)."""
     return (CLIQUE_MODEL.memory(shape, width, height, params)
-            + (16 + 2 * params["max_cliques"]) * width * height)
+            + (24 + 2 * params["max_cliques"]) * width * height)
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,9 @@ __all__ = [
     "Relaxation",
 ]
 
+#: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
+BLOCK = 1 << 16
+
 #: Optimal Golomb rulers: marks whose pairwise differences are all distinct (index = count).
 GOLOMB = (
     (), (0,), (0, 1), (0, 1, 3), (0, 1, 4, 6), (0, 1, 4, 9, 11), (0, 1, 4, 10, 12, 17),
@@ -296,6 +299,16 @@ class Relaxation:
         self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
             t, self.bins)
         self.singleton_target = np.asarray(singleton, np.float64) / np.sum(singleton)
+        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
+        # and enters, paid by every clique of a pixel that changes value (the pairs per term
+        # never change, so each pixel's sum over the cliques it takes part in is fixed)
+        second = np.tile(2.0 / self.pairs ** 2, 2)
+        self._second_all = second.sum()
+        self._second_part = None
+        if self._takes_part is not None:  # column by column: a float (pixels, 2T) copy is GBs
+            self._second_part = np.zeros(h * w)
+            for j, weight in enumerate(second):
+                self._second_part[self._takes_part[:, j]] += weight
         self.n_free = max(int(free.sum()), 1)
         self.singleton_counts = np.bincount(self.level_of[core_u[free]],
                                             minlength=len(self.levels)).astype(np.float64)
@@ -330,13 +343,9 @@ class Relaxation:
         random translation; returns the fraction of changed pixels."""
         changed = total = 0
         t = len(self.terms)
-        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
-        # and enters, paid by every clique of a pixel that changes value
-        second = np.tile(2.0 / self.pairs ** 2, 2)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
-        all_second = second.sum()
         # a fixed order of the sets would carry changes one way across the lattice
         for k in rng.permutation(len(self.sets)):
             rows, cols = self.sets[k]
@@ -348,8 +357,8 @@ class Relaxation:
                 if not flat.size:
                     continue
             padded = (rows + m) * wp + cols + m
-            part = None if self._takes_part is None else self._takes_part[flat]
-            parts = all_second if part is None else part @ second
+            part = self._takes_part  # (pixels, 2T): p takes part in the clique (or None: all do)
+            parts = self._second_all if part is None else self._second_part[flat]
             grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
                     / self.pairs[:, None]).astype(np.float32).ravel()
             g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
@@ -357,26 +366,29 @@ class Relaxation:
             y = self._propose(x, rng)
             lx, ly = self.level_of[x], self.level_of[y]
             de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts)
-            bn = bo = None
             if t:
-                nb = self.pad[padded[:, None] + self._reach]
-                bo = self._sign * (nb - x[:, None]) + self._base
-                bn = self._sign * (nb - y[:, None]) + self._base
-                delta = grad[bn]
-                delta -= grad[bo]
-                if part is not None:
-                    delta *= part
-                de += delta.sum(axis=1)
+                # in blocks of rows: the (rows, 2T) temporaries stay in cache
+                step = max(1024, BLOCK // (2 * t))
+                for a in range(0, x.size, step):
+                    b = slice(a, a + step)
+                    bo, bn = self._bins(padded[b], x[b], y[b])
+                    delta = grad[bn]
+                    delta -= grad[bo]
+                    if part is not None:
+                        delta *= part[flat[b]]
+                    de[b] += delta.sum(axis=1)
             total += x.size
             accept = np.flatnonzero(de < 0)
             accept = accept[np.argsort(de[accept], kind="stable")]
+            bo, bn = self._bins(padded[accept], x[accept], y[accept]) if t else (None, None)
+            part_a = None if part is None else part[flat[accept]]
             # backtracking: the improving pixels' changes add up exactly in the histograms, so
             # the true change of E is known; while it is not a decrease (many pixels moving mass
             # into the same bins overshoot), keep only the better half
             while accept.size:
                 d_s = (np.bincount(ly[accept], minlength=len(self.levels))
                        - np.bincount(lx[accept], minlength=len(self.levels)))
-                d_c = self._count_change(bn, bo, part, accept)
+                d_c = self._count_change(bn, bo, part_a, accept.size)
                 if self._change(d_c, d_s) < 0:
                     break
                 accept = accept[:accept.size // 2]
@@ -389,14 +401,23 @@ class Relaxation:
             self.counts += d_c
         return changed / max(total, 1)
 
-    def _count_change(self, bn, bo, part, accept) -> np.ndarray:
-        """Change of the term counts (T, bins) when the pixels ``accept`` of a set change."""
+    def _bins(self, padded, x, y):
+        """(old, new) bins in the flat (T, bins) counts of the 2T cliques of each pixel at
+        ``padded``, valued ``x`` now and ``y`` if it changes (int32, (pixels, 2T))."""
+        nb = self.pad[padded[:, None] + self._reach]
+        bo = self._sign * (nb - x[:, None]) + self._base
+        bn = self._sign * (nb - y[:, None]) + self._base
+        return bo, bn
+
+    def _count_change(self, bn, bo, part, first) -> np.ndarray:
+        """Change of the term counts (T, bins) when the pixels of the ``first`` rows of the
+        bins ``bn``, ``bo`` (and the takes-part mask ``part``) change."""
         t = len(self.terms)
         if not t:
             return np.zeros((0, self.bins))
-        bn, bo = bn[accept], bo[accept]
+        bn, bo = bn[:first], bo[:first]
         if part is not None:
-            keep = part[accept]
+            keep = part[:first]
             bn, bo = bn[keep], bo[keep]
         size = t * self.bins
         return (np.bincount(bn.ravel(), minlength=size)
