@@ -239,9 +239,12 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         step = progress.span((top - 1 - level) / top, (top - level) / top)
         ancestors = range(level + 1, min(level + depth, top) + 1)
         scale = {a: 1.0 / (np.sqrt(np.mean(flat[a].var(axis=0))) + 1e-30) for a in ancestors}
-        exemplar_parents = parent_structure(flat, identity, level, depth, scale, ex_shapes[level],
-                                            np.arange(len(flat[level])))
+        message = f"level {level + 1} of {top}: indexing the exemplar"
+        exemplar_parents = np.concatenate([
+            parent_structure(flat, identity, level, depth, scale, ex_shapes[level], rows)
+            for rows in _blocks(len(flat[level]), 16 * CHUNK, step, message)])
         sampler = BallSampler(exemplar_parents, eps=EPS)
+        step(0.0, f"level {level + 1} of {top}: sampling")
         sampler.radius = threshold * sampler.spacing()
         h, w = out_shapes[level]
         src = np.empty(h * w, np.int32)
@@ -254,6 +257,13 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     return sources
 
 
+def _blocks(n: int, size: int, report, message: str):
+    """``arange(n)`` in blocks of ``size``, reporting before each (where Esc is heard)."""
+    for start in range(0, n, size):
+        report(0.0, message)
+        yield np.arange(start, min(start + size, n))
+
+
 def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, scales=4,
              orientations=4):
     """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
@@ -261,6 +271,7 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
     features = pyramid_features(periodic_component(exemplar),
                                 SteerablePyramid(exemplar.shape[:2], levels, orientations),
                                 LaplacianPyramid(exemplar.shape[:2], levels))
+    progress(0.0, "exemplar analysed")
     pyr_output = LaplacianPyramid((height, width), levels)
     sources = sample_pyramid(features, pyr_output.level_shapes, threshold, depth, rng,
                              progress.span(0.0, 0.95))

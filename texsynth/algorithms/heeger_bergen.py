@@ -83,24 +83,29 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
     scratch = MatchWork(width * height)                      # the 1-D matches' temporaries
+    # Progress: the exemplar's analysis, the iterations, the final colour transport.
+    setup, iterating = progress.span(0.0, 0.03), progress.span(0.03, 0.9 if channels > 1 else 1.0)
     pixels, match_subbands = [], []
     for c in range(channels):
         pixels.append(TargetHistogram(components[:, :, c]))
         subbands = pyr_exemplar.analyze(periodic[:, :, c])
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands, scratch))
+        setup((c + 1) / channels, "analysing the exemplar")
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)], axis=2)
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
             pw = match_subbands[c](pyr_output.analyze(image[:, :, c]))
             image[:, :, c] = match(pyr_output.synthesize(pw), pixels[c], work=scratch)
-            progress((it + (c + 1) / channels) / iterations,
-                     f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}")
+            iterating((it + (c + 1) / channels) / iterations,
+                      f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}")
         if channels > 1:
-            steps = FINAL_SLICES if it == iterations - 1 else SLICES_PER_ITERATION
+            last = it == iterations - 1
             image = sliced_transfer(image.reshape(-1, channels), colours, rng,
-                                    steps).reshape(image.shape)
+                                    FINAL_SLICES if last else SLICES_PER_ITERATION,
+                                    progress.span(0.9, 1.0) if last else None
+                                    ).reshape(image.shape)
 
     result = pca.inverse(image)
     return np.clip(result, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))

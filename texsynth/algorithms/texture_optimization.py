@@ -147,7 +147,7 @@ class _Grid:
                 yield u, v, r + (self.left + v) % ww
 
 
-def _vote(z, nnf, weights, grid, unknown, fixed_image):
+def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
     """E-step: the weighted average of the overlapping exemplar patches on every free pixel.
     Summed one patch pixel (u, v) at a time: the active patches then cover distinct output
     pixels, so each sum is a plain indexed add and no temporary grows with p^2."""
@@ -161,6 +161,7 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image):
     for u, v, target in grid.offsets():
         norm[target] += wgt
         total[target] += wgt[:, None] * flat_z[(sr + u) * z.shape[1] + sc + v]
+        tick()
     covered = norm > 0
     if unknown is not None:
         covered &= unknown.ravel()
@@ -213,7 +214,7 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
 def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
                    descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
-    features = PatchFeatures(z, p, rng, *descriptor)
+    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label))
     hs, ws = features.shape
     unknown = None if fixed is None else ~fixed[0]
     grid = _Grid(shape, p, unknown)
@@ -234,16 +235,22 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
     penalty = None
     for it in range(iterations):
         progress(it / iterations, label)
+
+        def tick(fraction=it / iterations):  # between the steps of an iteration: Esc is heard
+            progress(fraction, label)
+
         target = features.describe(image, grid.top, grid.left)
+        tick()
         cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
-                          MATCH_ITERATIONS, grid.index, penalty)
+                          MATCH_ITERATIONS, grid.index, penalty, tick)
         if penalty is not None:
             cost = cost - penalty[nnf[grid.index][:, 0], nnf[grid.index][:, 1]]
         if uniformity > 0:
             penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
+            tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
-        image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image)
+        image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
     return _winners(z, nnf, grid, image, positions, unknown)
 
 

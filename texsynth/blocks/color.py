@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..progress import Progress
 from .histogram import MatchWork, TargetHistogram, match
 
 __all__ = ["ColorPCA", "sliced_transfer", "srgb_to_linear", "linear_to_srgb"]
@@ -50,7 +51,7 @@ class ColorPCA:
 
 
 def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
-                    steps: int) -> np.ndarray:
+                    steps: int, progress: Progress | None = None) -> np.ndarray:
     """Move the colours ``x`` (N, C) towards the joint distribution of the colours ``y`` (M, C).
 
     Sliced optimal transport: Pitie, Kokaram & Dahyot 2005 ("N-dimensional probability density
@@ -61,19 +62,21 @@ def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
     ``x <- x + sum_k (match(x R_k, y R_k) - x R_k) R_k^T``. Deviations: the 1-D matching is the
     O(N) cumulative-histogram path of ``texsynth.blocks.histogram``; the target side is every
     ``ceil(M / TARGET_SAMPLES)``-th colour of ``y`` (the matching reads only ``BINS + 1`` of its
-    quantiles). Returns a new float32 array.
+    quantiles). Returns a new float32 array; ``progress`` hears of every step.
     """
     c = x.shape[1]
     xt = np.array(np.asarray(x, dtype=np.float32).T, order="C")  # (C, N): contiguous rows
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
     work = MatchWork(xt.shape[1])
-    for _ in range(steps):
+    for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0].astype(np.float32)
         px, py = basis.T @ xt, basis.T @ yt
         for k in range(c):
             np.subtract(match(px[k], TargetHistogram(py[k]), work=work), px[k], out=px[k])
         xt += basis @ px
+        if progress is not None:
+            progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
     return np.ascontiguousarray(xt.T)
 
 

@@ -43,10 +43,11 @@ class PatchFeatures:
 
     ``exemplar`` holds the descriptors of the exemplar's patches, (h - p + 1, w - p + 1, d),
     indexed by the patch's top-left pixel; :meth:`describe` gives an image's, wrapping around.
+    ``tick()``, when given, is called after every block of rows (where a caller may cancel).
     """
 
     def __init__(self, exemplar: np.ndarray, size: int, rng: np.random.Generator,
-                 cells: int = CELLS, dims: int = DIMS):
+                 cells: int = CELLS, dims: int = DIMS, tick=None):
         h, w, c = exemplar.shape
         if size > min(h, w):
             raise ValueError(f"patch size {size} is larger than the exemplar ({w} x {h})")
@@ -71,6 +72,8 @@ class PatchFeatures:
                                   for a in range(g) for b in range(g)], axis=-1)
             raw -= self.mean
             np.matmul(raw, self.basis, out=out[start:stop])
+            if tick is not None:
+                tick()
         self.exemplar = out
         self.rows = Rows(out.reshape(-1, out.shape[2]))
 
@@ -120,7 +123,7 @@ def _cost(features, target, flat, penalty):
 def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, rows: np.ndarray,
                cols: np.ndarray, period: tuple[int, int], rng: np.random.Generator,
                iterations: int = 2, active: tuple[np.ndarray, np.ndarray] | None = None,
-               penalty: np.ndarray | None = None) -> np.ndarray:
+               penalty: np.ndarray | None = None, tick=None) -> np.ndarray:
     """Improve ``nnf`` (gh, gw, 2) int32, the exemplar top-left matched to each output grid
     patch, in place; return the cost of each active patch.
 
@@ -129,7 +132,8 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
     patches' offset, measured around the torus. ``active`` = (gi, gj), the grid indices of the
     patches to improve (default: all), whose descriptors ``target`` (n, d) holds; the others keep
     their match and still propose it. ``penalty`` (h - p + 1, w - p + 1) is added to the
-    distance of each exemplar patch.
+    distance of each exemplar patch. ``tick()``, when given, is called after every round of
+    proposals (where a caller may cancel).
     """
     hs, ws = features.shape
     gh, gw = nnf.shape[:2]
@@ -148,6 +152,8 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
         flat = np.where(better, cand, flat)
         cost = np.where(better, d, cost)
         grid[gi, gj] = flat
+        if tick is not None:
+            tick()
 
     for _ in range(iterations):
         for k in JUMPS:

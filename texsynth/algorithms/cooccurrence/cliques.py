@@ -338,16 +338,19 @@ class Relaxation:
             drawn = np.where(rng.random(x.size) < 0.5, drawn, local)
         return self.levels[drawn]
 
-    def sweep(self, rng) -> float:
+    def sweep(self, rng, tick=None) -> float:
         """Visit every free pixel once, set by set in random order, the colouring shifted by a
-        random translation; returns the fraction of changed pixels."""
+        random translation; returns the fraction of changed pixels. ``tick(done, sets)``, when
+        given, is called after every set (where a caller may cancel)."""
         changed = total = 0
         t = len(self.terms)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
         # a fixed order of the sets would carry changes one way across the lattice
-        for k in rng.permutation(len(self.sets)):
+        for done, k in enumerate(rng.permutation(len(self.sets))):
+            if tick is not None and done:
+                tick(done, len(self.sets))
             rows, cols = self.sets[k]
             rows, cols = (rows + sy) % h, (cols + sx) % w
             flat = rows * w + cols
