@@ -72,19 +72,21 @@ FINAL_SLICES = 30
 def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations=4,
                   iterations=15, steered=False, joint=False, bins=50):
     """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
+    channels = exemplar.shape[2]
+    # Progress: the exemplar's analysis, the iterations, the final colour transport.
+    setup, iterating = progress.span(0.0, 0.03), progress.span(0.03, 0.9 if channels > 1 else 1.0)
     depth = pyramid_depth(exemplar.shape, width, height, scales)
     pca = ColorPCA.fit(exemplar)
     components = pca.forward(exemplar)
     periodic = periodic_component(components)
+    setup(0.0, "analysing the exemplar")
     pyr_exemplar = SteerablePyramid(exemplar.shape[:2], depth, orientations)
     pyr_output = SteerablePyramid((height, width), depth, orientations)
-    channels = exemplar.shape[2]
+    setup(0.0, "analysing the exemplar")
     noise = rng.random((height, width, channels), dtype=np.float32)
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
     scratch = MatchWork(width * height)                      # the 1-D matches' temporaries
-    # Progress: the exemplar's analysis, the iterations, the final colour transport.
-    setup, iterating = progress.span(0.0, 0.03), progress.span(0.03, 0.9 if channels > 1 else 1.0)
     pixels, match_subbands = [], []
     for c in range(channels):
         pixels.append(TargetHistogram(components[:, :, c]))
