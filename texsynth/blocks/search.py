@@ -4,9 +4,9 @@ Pieces, each usable alone:
 
 - :func:`square_offsets`, :func:`disk_offsets`: neighbourhood shapes as (row, col) offsets;
 - :func:`toroidal_gather`: the neighbours of output pixels on a torus (periodic output);
-- :func:`exemplar_neighbours`: every exemplar pixel's neighbours at a given step, with a flag for
-  those outside the exemplar (or wrapped, for an exemplar declared tileable);
-  :func:`neighbour_table` the same as one row of values and squared norms per pixel;
+- :func:`neighbour_table`: every exemplar pixel's neighbours at a given step and their squared
+  norms as one row, a fixed value for those outside the exemplar (or wrapped, for an exemplar
+  declared tileable);
 - :class:`PatchMatrix`: every exemplar window as one row, so the weighted SSD of a batch of
   partially known output neighbourhoods against *all* exemplar windows is one matrix product
   (exact, not approximate): ``sum_k g_k ||E_k - N_k||^2 = sum_k g_k ||E_k||^2
@@ -27,7 +27,6 @@ __all__ = [
     "disk_offsets",
     "gaussian_weights",
     "toroidal_gather",
-    "exemplar_neighbours",
     "neighbour_table",
     "PatchMatrix",
     "sample_near_best",
@@ -90,25 +89,6 @@ def toroidal_gather(image: np.ndarray, rows, cols, offsets: np.ndarray, step: in
     r = (np.asarray(rows)[:, None] + step * offsets[None, :, 0]) % h
     c = (np.asarray(cols)[:, None] + step * offsets[None, :, 1]) % w
     return image[r, c]
-
-
-def exemplar_neighbours(exemplar: np.ndarray, offsets: np.ndarray, step: int = 1,
-                        wrap: bool = False):
-    """Every exemplar pixel's neighbours ``exemplar[p + step u, q + step v]``.
-
-    Returns ``values`` (h, w, K, C) float32, zero where the neighbour falls outside the exemplar,
-    and ``inside`` (h, w, K) bool. With ``wrap`` (an exemplar that tiles) every neighbour wraps and
-    is inside.
-    """
-    h, w = exemplar.shape[:2]
-    p = np.arange(h)[:, None, None] + step * offsets[None, None, :, 0]
-    q = np.arange(w)[None, :, None] + step * offsets[None, None, :, 1]
-    if wrap:
-        return exemplar[p % h, q % w], np.ones((h, w, len(offsets)), bool)
-    inside = (p >= 0) & (p < h) & (q >= 0) & (q < w)
-    values = exemplar[np.clip(p, 0, h - 1), np.clip(q, 0, w - 1)]
-    values[~inside] = 0
-    return values, inside
 
 
 def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: bool,

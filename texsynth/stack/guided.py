@@ -11,7 +11,7 @@ import numpy as np
 
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
-from ..blocks.search import Rows, best_candidate, disk_offsets, exemplar_neighbours
+from ..blocks.search import Rows, best_candidate, disk_offsets, neighbour_table
 
 __all__ = ["guided_mrf", "C_SUPPORT"]
 
@@ -38,15 +38,11 @@ class _GuidedLevel:
         for image, offs in ((in_b, offsets), (in_a, self.offsets_a)):
             flat = image.reshape(h * w, -1)
             centred = image - flat.mean(axis=0)
-            values, inside = exemplar_neighbours(centred, offs, step, wrap)
             dmax = np.float32((np.ptp(flat, axis=0).astype(np.float64) ** 2).sum())
-            q = np.where(inside, (values * values).sum(axis=3), dmax)
-            parts += [values.reshape(h * w, -1), q.reshape(h * w, -1)]
+            parts.append(neighbour_table(centred, offs, step, wrap, dmax))
             if image is in_b:
                 self.colours_b = Rows(centred.reshape(h * w, -1))
-        table = np.zeros((h * w + 1, sum(p.shape[1] for p in parts)), np.float32)
-        table[:-1] = np.concatenate(parts, axis=1)
-        self.table = Rows(table)
+        self.table = Rows(np.concatenate(parts, axis=1))  # the last row stays all zero
         self.kb, self.cb = len(offsets), in_b.shape[2]
         self.ka, self.ca = len(self.offsets_a), in_a.shape[2]
         # The synthesized support on this level's grid, centred, and its positions.
