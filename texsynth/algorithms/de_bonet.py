@@ -66,6 +66,8 @@ __all__ = [
 
 #: Output locations matched at once (bounds the query block).
 CHUNK = 1 << 14
+#: A level with more output locations than this first draws among coherent candidates.
+COHERENT_PIXELS = 512 * 512
 #: Principal components of the parent structure the search compares.
 MAX_DIMS = 6
 #: Approximation of the kd-tree search (scipy's ``eps``): a ball member may be missed
@@ -106,6 +108,20 @@ def channel_levels(features, sources, channel, orientations) -> list[np.ndarray]
     return levels
 
 
+def _bilinear(f, s, y, x, k) -> np.ndarray:
+    """Rows of ``f`` at an image level whose locations copy from ``s``, read bilinearly at
+    (y / 2^k, x / 2^k), wrapping around: the level's sample i sits at 2^k i of the finer one."""
+    ha, wa = s.shape
+    fy, fx = y / 2.0**k, x / 2.0**k
+    y0, x0 = fy.astype(np.int64), fx.astype(np.int64)
+    ty = (fy - y0).astype(np.float32)[:, None]
+    tx = (fx - x0).astype(np.float32)[:, None]
+    y1, x1 = (y0 + 1) % ha, (x0 + 1) % wa
+    top_row = f[s[y0, x0]] + tx * (f[s[y0, x1]] - f[s[y0, x0]])
+    bottom_row = f[s[y1, x0]] + tx * (f[s[y1, x1]] - f[s[y1, x0]])
+    return top_row + ty * (bottom_row - top_row)
+
+
 def parent_structure(features, sources, level, depth, scale, shape, rows) -> np.ndarray:
     """Parent structures (float32, one row per location) of locations ``rows`` of ``level``.
 
@@ -114,56 +130,78 @@ def parent_structure(features, sources, level, depth, scale, shape, rows) -> np.
     from (the identity for the exemplar itself); ``scale[a]`` weights level a. Level a = level + k
     is read bilinearly at (y / 2^k, x / 2^k), wrapping around, since its sample i sits at 2^k i.
     """
-    h, w = shape
-    y, x = np.divmod(rows, w)
+    y, x = np.divmod(rows, shape[1])
     top = min(level + depth, len(features) - 1)
-    parts = []
-    for a in range(level + 1, top + 1):
-        f, s = features[a], sources[a]
-        ha, wa = s.shape
-        fy, fx = y / 2.0 ** (a - level), x / 2.0 ** (a - level)
-        y0, x0 = fy.astype(np.int64), fx.astype(np.int64)
-        ty = (fy - y0).astype(np.float32)[:, None]
-        tx = (fx - x0).astype(np.float32)[:, None]
-        y1, x1 = (y0 + 1) % ha, (x0 + 1) % wa
-        top_row = f[s[y0, x0]] + tx * (f[s[y0, x1]] - f[s[y0, x0]])
-        bottom_row = f[s[y1, x0]] + tx * (f[s[y1, x1]] - f[s[y1, x0]])
-        parts.append((top_row + ty * (bottom_row - top_row)) * np.float32(scale[a]))
-    return np.concatenate(parts, axis=1)
+    return np.concatenate([_bilinear(features[a], sources[a], y, x, a - level)
+                           * np.float32(scale[a]) for a in range(level + 1, top + 1)], axis=1)
+
+
+class ParentSpace:
+    """A level's parent structures on their leading principal components (enough for ``energy``
+    of the variance of a regular sample of the exemplar's, at most ``max_dims``).
+
+    Projection is linear and a bilinear reading is a weighted mean, so the projected parent
+    structure is the sum, over the ancestor levels a, of a bilinear reading of level a's values
+    projected beforehand: a location gathers ``dims`` values per ancestor, not all of them.
+    """
+
+    def __init__(self, features, level, depth, scale, ex_shape, energy=0.99,
+                 max_dims=MAX_DIMS, samples=20000):
+        self.level = level
+        self.ancestors = range(level + 1, min(level + depth, len(features) - 1) + 1)
+        flat = [f.reshape(-1, f.shape[2]) for f in features]
+        identity = [_identity(f.shape[:2]) if a in self.ancestors else None
+                    for a, f in enumerate(features)]
+        n = ex_shape[0] * ex_shape[1]
+        sample = parent_structure(flat, identity, level, depth, scale, ex_shape,
+                                  np.arange(0, n, max(1, n // samples))).astype(np.float64)
+        mean = sample.mean(axis=0)
+        _, sv, vt = np.linalg.svd(sample - mean, full_matrices=False)
+        share = np.cumsum(sv**2) / max(float(np.sum(sv**2)), 1e-300)
+        self.dims = min(int(np.searchsorted(share, energy)) + 1, max_dims, len(sv))
+        basis = vt[:self.dims].T
+        self.offset = (-mean @ basis).astype(np.float32)
+        self.projected, start = {}, 0
+        for a in self.ancestors:
+            block = basis[start:start + flat[a].shape[1]]
+            self.projected[a] = (flat[a] @ (block * scale[a])).astype(np.float32)
+            start += flat[a].shape[1]
+
+    def __call__(self, sources, shape, rows) -> np.ndarray:
+        """Projected parent structures (float64, one row per location ``rows`` of an image's
+        level of ``shape`` whose levels copy from ``sources``)."""
+        y, x = np.divmod(rows, shape[1])
+        total = np.broadcast_to(self.offset, (len(rows), self.dims)).copy()
+        for a in self.ancestors:
+            total += _bilinear(self.projected[a], sources[a], y, x, a - self.level)
+        return total.astype(np.float64)
+
+
+def _identity(shape) -> np.ndarray:
+    return np.arange(shape[0] * shape[1], dtype=np.int32).reshape(shape)
 
 
 class BallSampler:
     """Uniform draws among the ``points`` within ``radius`` of each query, nearest when none.
 
-    Points and queries are compared on their leading principal components (enough for
-    ``energy`` of the points' variance, at most ``max_dims``), where a kd-tree is exact and
-    fast. The ball of a batch of queries is gathered by k-nearest queries bounded by the
-    radius, k growing along ``ladder`` only for the queries whose ball is larger, so memory
+    Points and queries are low-dimensional (a level's :class:`ParentSpace`), where a kd-tree is
+    exact and fast. The ball of a batch of queries is gathered by k-nearest queries bounded by
+    the radius, k growing along ``ladder`` only for the queries whose ball is larger, so memory
     stays bounded; balls larger than the ladder are sampled by rejection, whose acceptance is
     then at least ``ladder[-1] / len(points)``. ``eps`` > 0 searches approximately (scipy's
-    ``eps``): draws stay inside the ball but may miss some of its points.
+    ``eps``): draws stay inside the ball but may miss some of its points, and the nearest point
+    may be one at most ``1 + eps`` times as far.
     """
 
     ladder = (16, 256, 4096)
     #: neighbours returned by one tree query call (16 bytes each)
     batch = 1 << 18
 
-    def __init__(self, points: np.ndarray, energy: float = 0.99, max_dims: int = MAX_DIMS,
-                 eps: float = 0.0):
+    def __init__(self, points: np.ndarray, eps: float = 0.0):
         self.eps = eps
-        points = np.asarray(points, dtype=np.float64)
-        self.mean = points.mean(axis=0)
-        stride = max(1, len(points) // 20000)
-        _, sv, vt = np.linalg.svd(points[::stride] - self.mean, full_matrices=False)
-        share = np.cumsum(sv**2) / max(float(np.sum(sv**2)), 1e-300)
-        dims = min(int(np.searchsorted(share, energy)) + 1, max_dims, len(sv))
-        self.basis = np.ascontiguousarray(vt[:dims].T)
-        self.points = self.project(points)
+        self.points = np.asarray(points, dtype=np.float64)
         self.tree = cKDTree(self.points)
         self.radius = 0.0
-
-    def project(self, vectors: np.ndarray) -> np.ndarray:
-        return (np.asarray(vectors, dtype=np.float64) - self.mean) @ self.basis
 
     def spacing(self, samples: int = 4000) -> float:
         """Median distance from a point to its nearest distinct point (on a regular sample)."""
@@ -202,7 +240,28 @@ class BallSampler:
             count[todo] = self.ladder[-1]
         empty = count == 0
         if empty.any():
-            chosen[empty] = self.tree.query(queries[empty], k=1)[1]
+            chosen[empty] = self.tree.query(queries[empty], k=1, eps=self.eps, workers=-1)[1]
+        return chosen
+
+    def draw_among(self, queries: np.ndarray, candidates: np.ndarray,
+                   rng: np.random.Generator) -> np.ndarray:
+        """One point index per projected query row, drawn uniformly among its distinct
+        ``candidates`` (one row of point indices per query) within ``radius``; a query with
+        none inside draws from the whole ball (:meth:`draw`)."""
+        diff = self.points[candidates] - queries[:, None, :]
+        inside = np.einsum("nkd,nkd->nk", diff, diff) <= self.radius**2
+        for j in range(1, candidates.shape[1]):  # a repeated candidate counts once
+            inside[:, j] &= (candidates[:, :j] != candidates[:, j:j + 1]).all(axis=1)
+        count = inside.sum(axis=1)
+        pick = (rng.random(len(queries)) * count).astype(np.int64)
+        column = (np.cumsum(inside, axis=1) > pick[:, None]).argmax(axis=1)
+        chosen = candidates[np.arange(len(queries)), column].astype(np.int64)
+        none = np.flatnonzero(count == 0)
+        if len(none):
+            # most of these have an empty ball: the nearest point first, the ball where it is in
+            dist, chosen[none] = self.tree.query(queries[none], k=1, eps=self.eps, workers=-1)
+            ball = none[dist <= self.radius]
+            chosen[ball] = self.draw(queries[ball], rng)
         return chosen
 
     def _reject(self, queries, rng, tries=64):
@@ -219,15 +278,32 @@ class BallSampler:
         return chosen
 
 
+def coherent_candidates(parent_sources, ex_shapes, shape, rows) -> np.ndarray:
+    """Per location ``rows`` of a level of ``shape``, the (n, 4) flat exemplar locations that
+    continue the sources of its four bilinear parents (the coarser level's ``parent_sources``):
+    parent q copied from exemplar location s proposes s's child at the same offset, 2 s + x - 2 q,
+    wrapping around the exemplar's level (``ex_shapes``: the exemplar's level, then its parent
+    level; Ashikhmin 2001, section 3, with the candidates taken across scales)."""
+    w = shape[1]
+    hp, wp = parent_sources.shape
+    (he, we), (_, wpe) = ex_shapes
+    y, x = np.divmod(rows, w)
+    columns = []
+    for qy in (y // 2, y // 2 + 1):
+        for qx in (x // 2, x // 2 + 1):
+            s_y, s_x = np.divmod(parent_sources[qy % hp, qx % wp].astype(np.int64), wpe)
+            columns.append(((2 * s_y + y - 2 * qy) % he) * we + (2 * s_x + x - 2 * qx) % we)
+    return np.stack(columns, axis=1)
+
+
 def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     """Source maps of Algorithm 11.5: per level an (h_l, w_l) int32 array of flat exemplar
     locations. ``features[l]`` are the exemplar's (h_l, w_l, F_l) values; ``out_shapes[l]`` the
     output's level shapes. The coarsest level is the exemplar's, tiled from a random offset."""
     top = len(features) - 1
     ex_shapes = [f.shape[:2] for f in features]
-    flat = [f.reshape(-1, f.shape[2]) for f in features]
-    identity = [np.arange(s[0] * s[1], dtype=np.int32).reshape(s) for s in ex_shapes]
     sources = [None] * (top + 1)
+    identity = [_identity(shape) for shape in ex_shapes]
 
     hs, ws = ex_shapes[top]
     oy, ox = rng.integers(0, hs), rng.integers(0, ws)
@@ -238,20 +314,27 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     for level in range(top - 1, -1, -1):
         step = progress.span((top - 1 - level) / top, (top - level) / top)
         ancestors = range(level + 1, min(level + depth, top) + 1)
-        scale = {a: 1.0 / (np.sqrt(np.mean(flat[a].var(axis=0))) + 1e-30) for a in ancestors}
+        scale = {a: 1.0 / (np.sqrt(np.mean(features[a].var(axis=(0, 1)))) + 1e-30)
+                 for a in ancestors}
+        space = ParentSpace(features, level, depth, scale, ex_shapes[level])
         message = f"level {level + 1} of {top}: indexing the exemplar"
-        exemplar_parents = np.concatenate([
-            parent_structure(flat, identity, level, depth, scale, ex_shapes[level], rows)
-            for rows in _blocks(len(flat[level]), 16 * CHUNK, step, message)])
-        sampler = BallSampler(exemplar_parents, eps=EPS)
+        sampler = BallSampler(np.concatenate([
+            space(identity, ex_shapes[level], rows)
+            for rows in _blocks(ex_shapes[level][0] * ex_shapes[level][1], 16 * CHUNK, step,
+                                message)]), eps=EPS)
         step(0.0, f"level {level + 1} of {top}: sampling")
         sampler.radius = threshold * sampler.spacing()
         h, w = out_shapes[level]
         src = np.empty(h * w, np.int32)
         for start in range(0, h * w, CHUNK):
             rows = np.arange(start, min(start + CHUNK, h * w))
-            queries = parent_structure(flat, sources, level, depth, scale, (h, w), rows)
-            src[rows] = sampler.draw(sampler.project(queries), rng)
+            queries = space(sources, (h, w), rows)
+            if h * w > COHERENT_PIXELS:
+                candidates = coherent_candidates(sources[level + 1], ex_shapes[level:level + 2],
+                                                 (h, w), rows)
+                src[rows] = sampler.draw_among(queries, candidates, rng)
+            else:
+                src[rows] = sampler.draw(queries, rng)
             step(rows[-1] / (h * w), f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
     return sources
