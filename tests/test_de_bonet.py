@@ -5,8 +5,11 @@ import pytest
 from scipy.ndimage import gaussian_filter
 
 import texsynth
+from texsynth.algorithms import de_bonet as de_bonet_module
 from texsynth.algorithms.de_bonet import (
     BallSampler,
+    ParentSpace,
+    coherent_candidates,
     de_bonet,
     parent_structure,
     pyramid_features,
@@ -43,7 +46,16 @@ def _line_alignment(image):
     return float(y.mean(axis=1).var() / y.var())
 
 
-def test_threshold_zero_copies_only_identical_parent_structures():
+@pytest.fixture(params=[False, True], ids=["ball", "coherent"])
+def coherent(request, monkeypatch):
+    """Every level draws from the whole ball, or first among coherent candidates (as levels
+    larger than ``COHERENT_PIXELS`` do)."""
+    if request.param:
+        monkeypatch.setattr(de_bonet_module, "COHERENT_PIXELS", 0)
+    return request.param
+
+
+def test_threshold_zero_copies_only_identical_parent_structures(coherent):
     exemplar = _photo(size=64)
     pyramid = LaplacianPyramid((64, 64), 3)
     features = pyramid_features(periodic_component(exemplar), SteerablePyramid((64, 64), 3, 4),
@@ -70,7 +82,7 @@ def test_threshold_zero_copies_only_identical_parent_structures():
     np.testing.assert_allclose(np.roll(p, shift, (0, 1)), out, atol=1e-5)
 
 
-def test_spots_on_lines_stay_on_lines_where_heeger_bergen_scatters_them():
+def test_spots_on_lines_stay_on_lines_where_heeger_bergen_scatters_them(coherent):
     exemplar = _spots_on_lines()
     target = _line_alignment(exemplar)
     hb = texsynth.synthesize(exemplar, 128, 128, method="heeger_bergen", seed=0, iterations=5)
@@ -99,6 +111,53 @@ def test_ball_sampler_is_uniform_over_every_point_in_the_ball_and_nearest_outsid
     far = sampler.draw(np.array([[30.0, 4.2], [9.5, 9.3]]), rng)
     assert grid[far[0]].tolist() == [19.0, 4.0]
     assert np.hypot(*(grid[far[1]] - [9.5, 9.3])) < 0.6   # a nearest point, none within 0.1
+
+
+def test_ball_sampler_draws_among_distinct_candidates_inside_then_from_the_ball():
+    grid = np.stack(np.meshgrid(np.arange(20.0), np.arange(20.0)), -1).reshape(-1, 2)
+    sampler = BallSampler(grid)
+    sampler.radius = 1.5
+    rng = np.random.default_rng(0)
+    index = {tuple(p): i for i, p in enumerate(grid.tolist())}
+    a, b, c = index[(5.0, 5.0)], index[(6.0, 6.0)], index[(9.0, 5.0)]   # c is outside
+    query = np.array([[5.4, 5.4]])
+    draws = sampler.draw_among(np.repeat(query, 400, 0), np.tile([a, a, b, c], (400, 1)), rng)
+    assert set(draws) == {a, b}
+    assert 150 < np.sum(draws == a) < 250            # a repeated candidate counts once
+    # no candidate inside: the whole ball, then the nearest point
+    draws = sampler.draw_among(np.repeat(query, 400, 0), np.full((400, 4), c), rng)
+    ball = set(np.flatnonzero(np.hypot(*(grid - query).T) <= 1.5))
+    assert set(draws) == ball and len(ball) > 2
+    far = sampler.draw_among(np.array([[30.0, 4.2]]), np.array([[c, c, c, c]]), rng)
+    assert grid[far[0]].tolist() == [19.0, 4.0]
+
+
+def test_coherent_candidates_continue_a_shifted_copy_of_the_exemplar():
+    ex_shapes = [(16, 16), (8, 8)]
+    dy, dx = 3, 5
+    parent = ((np.arange(16)[:, None] + dy) % 8) * 8 + (np.arange(24)[None, :] + dx) % 8
+    rows = np.arange(32 * 48)
+    candidates = coherent_candidates(parent, ex_shapes, (32, 48), rows)
+    y, x = np.divmod(rows, 48)
+    expected = ((y + 2 * dy) % 16) * 16 + (x + 2 * dx) % 16
+    np.testing.assert_array_equal(candidates, np.repeat(expected[:, None], 4, 1))
+
+
+def test_parent_space_keeps_the_distances_of_parent_structures():
+    exemplar = _photo(size=64)
+    features = pyramid_features(periodic_component(exemplar), SteerablePyramid((64, 64), 3, 4),
+                                LaplacianPyramid((64, 64), 3))
+    flat = [f.reshape(-1, f.shape[2]) for f in features]
+    scale = {1: 2.0, 2: 0.5}
+    space = ParentSpace(features, 0, 2, scale, (64, 64), energy=1.0, max_dims=1000)
+    rng = np.random.default_rng(1)
+    sources = [None] + [rng.integers(0, f.shape[0] * f.shape[1], (80 >> a, 60 >> a))
+                        for a, f in enumerate(features) if a]
+    rows = rng.choice(80 * 60, 50, replace=False)
+    raw = parent_structure(flat, sources, 0, 2, scale, (80, 60), rows).astype(np.float64)
+    projected = space(sources, (80, 60), rows)
+    np.testing.assert_allclose(np.linalg.norm(projected[:, None] - projected[None], axis=2),
+                               np.linalg.norm(raw[:, None] - raw[None], axis=2), atol=1e-4)
 
 
 @pytest.mark.parametrize("params, message", [
