@@ -392,13 +392,17 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
 
 
 def _memory(shape, width, height, params):
-    """Per output pixel: the output, int32 source maps, one channel's Laplacian levels and its
-    spectra. Per exemplar pixel: its level values, and the finest level's parent structures
-    (float32 and float64) with their projection and tree. The matching runs in fixed batches."""
+    """The exemplar's level values, then the larger of two phases. Sampling: per exemplar
+    pixel, the finest level's projected parent structures (float64, in blocks then joined) and
+    their kd-tree; per output pixel, the int32 source maps. Collapsing: per output pixel, the
+    output, the source maps, one channel's Laplacian levels and its spectra. The matching runs
+    in fixed batches."""
     k, c = params["orientations"], shape[2]
-    per_pixel = 4 * c + 2 * 4 * 4 / 3 + 16
-    per_exemplar_pixel = 12 * params["depth"] * (k + 1) * c + 16 * MAX_DIMS + 4 * c * (k + 2) + 64
-    return per_pixel * width * height + per_exemplar_pixel * shape[0] * shape[1] + (24 << 20)
+    exemplar = shape[0] * shape[1]
+    sources = 4 * 4 / 3 * width * height
+    sampling = (2 * 8 * MAX_DIMS + 16 + 8) * exemplar + sources
+    collapsing = (4 * c + 4 * 4 / 3 + 16) * width * height + sources
+    return 4 * c * (k + 2) * exemplar + max(sampling, collapsing) + (24 << 20)
 
 
 def _cost(shape, width, height, params):
