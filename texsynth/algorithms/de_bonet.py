@@ -407,13 +407,18 @@ def _memory(shape, width, height, params):
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Per output location, a
-    parent-structure query of a kd-tree (about ``depth`` ancestors of K + 1 values per channel); per
-    exemplar location, the pyramids and the tree's build."""
+    parent-structure query of a kd-tree (about ``depth`` ancestors of K + 1 values per channel),
+    about 0.56 times that on a level with coherent candidates (level l holds 3/4 of 4^-l of the
+    pyramid's locations); per exemplar location, the pyramids and the tree's build."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
-    return (0.03 + 9.0e-7 * width * height * spread * (1 + depth * (k + 1) * c / 15)
-            + 4.0e-7 * h * w * depth * (k + 1) * c)
+    pixels, locations = width * height, 0.0
+    for level in range(16):
+        n = pixels * 4.0**-level
+        locations += 0.75 * n * (0.56 if n > COHERENT_PIXELS else 1.0)
+    return (0.03 + 5.4e-7 * locations * spread * (1 + depth * (k + 1) * c / 15)
+            + 7.0e-8 * h * w * depth * (k + 1) * c)
 
 
 METHOD = register(Method(
