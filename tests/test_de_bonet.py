@@ -17,6 +17,7 @@ from texsynth.algorithms.de_bonet import (
 )
 from texsynth.blocks.periodic import periodic_component
 from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
+from texsynth.metrics import seam_ratio
 from texsynth.progress import Progress
 
 
@@ -91,6 +92,16 @@ def test_spots_on_lines_stay_on_lines_where_heeger_bergen_scatters_them(coherent
         db = texsynth.synthesize(exemplar, 128, 128, method="de_bonet", seed=0,
                                  threshold=threshold)
         assert _line_alignment(db) > 0.5 * target
+
+
+def test_coherent_levels_tile_and_repeat_with_the_seed(coherent):
+    exemplar = _photo(size=64)
+    first, again, other = (texsynth.synthesize(exemplar, 96, 80, method="de_bonet", seed=seed)
+                           for seed in (4, 4, 5))
+    np.testing.assert_array_equal(first, again)
+    assert not np.array_equal(first, other)
+    assert first.shape == (80, 96, 3) and first.dtype == np.float32
+    assert seam_ratio(first) < 1.3
 
 
 def test_ball_sampler_is_uniform_over_every_point_in_the_ball_and_nearest_outside():
