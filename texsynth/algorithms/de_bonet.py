@@ -42,16 +42,17 @@ Deviations, one line each:
 - the ball is searched approximately (kd-tree ``eps`` = ``EPS``): only true members are drawn,
   some may be missed (at 512 -> 1024 on gravel: 25% less CPU, patch and structure distances
   unchanged or lower); the nearest parent structure, where the ball is empty, is approximate too
-  (``NEAREST_EPS``): a third of the finest level's locations at 2048 need it, and it took half
-  the CPU when exact;
+  (``NEAREST_EPS``): a third of the finest level's locations at 2048 need it, and exact it took
+  40% of the CPU;
 - production sizes (k-coherence, after Ashikhmin 2001, section 3, and Tong et al. 2002): a level
   with more than ``COHERENT_PIXELS`` locations first draws uniformly among its coherent
   candidates within ``threshold`` (the exemplar children of its four bilinear parents' sources,
   at its offset from each: :func:`coherent_candidates`), and searches the ball only where none
   is; the draw is then among part of the ball (on gravel at 1024 -> 2048 the ball holds one
   point or none for 99% of the finest level's locations; a candidate is inside for 67% of
-  them, the ball is not empty for 68%; patch distance 0.224 -> 0.234, structure 0.159 ->
-  0.149, a quarter of the CPU time);
+  them, the ball is not empty for 68%); with the rest: patch distance 0.224 -> 0.215,
+  structure 0.159 -> 0.152 on gravel, 0.414 -> 0.403 and 0.211 -> 0.211 on a brick wall, in
+  a quarter of the CPU time;
 - the exemplar pyramid is built from its periodic component (Moisan), so the border jump of a
   non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
