@@ -50,7 +50,6 @@ from ..blocks.histogram import (
     BINS,
     JointTarget,
     JointWork,
-    MatchWork,
     TargetHistogram,
     match,
     match_joint,
@@ -86,20 +85,19 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     noise = rng.random((height, width, channels), dtype=np.float32)
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
-    scratch = MatchWork(width * height)                      # the 1-D matches' temporaries
     pixels, match_subbands = [], []
     for c in range(channels):
         pixels.append(TargetHistogram(components[:, :, c]))
         subbands = pyr_exemplar.analyze(periodic[:, :, c])
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
-                              else _BandMatch(subbands, scratch))
+                              else _BandMatch(subbands))
         setup((c + 1) / channels, "analysing the exemplar")
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)], axis=2)
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
             pw = match_subbands[c](pyr_output.analyze(image[:, :, c]))
-            image[:, :, c] = match(pyr_output.synthesize(pw), pixels[c], work=scratch)
+            image[:, :, c] = match(pyr_output.synthesize(pw), pixels[c])
             iterating((it + (c + 1) / channels) / iterations,
                       f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}")
         if channels > 1:
@@ -116,13 +114,14 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 class _BandMatch:
     """Heeger and Bergen's matching: every subband (residuals included) alone, 1-D."""
 
-    def __init__(self, exemplar: Coefficients, work: MatchWork):
+    def __init__(self, exemplar: Coefficients):
         self.targets = [TargetHistogram(band) for band in exemplar.arrays()]
-        self.work = work
 
     def __call__(self, pw: Coefficients) -> Coefficients:
-        return pw.replaced([match(band, t, work=self.work)
-                            for band, t in zip(pw.arrays(), self.targets, strict=True)])
+        """``pw`` matched in place (its bands are the analysis' own arrays)."""
+        for band, t in zip(pw.arrays(), self.targets, strict=True):
+            match(band, t, out=band)
+        return pw
 
 
 class _OrientedMatch:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..progress import Progress
-from .histogram import MatchWork, TargetHistogram, match
+from .histogram import TargetHistogram, match
 
 __all__ = ["ColorPCA", "sliced_transfer", "srgb_to_linear", "linear_to_srgb"]
 
@@ -68,12 +68,12 @@ def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
     xt = np.array(np.asarray(x, dtype=np.float32).T, order="C")  # (C, N): contiguous rows
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
-    work = MatchWork(xt.shape[1])
+    moved = np.empty(xt.shape[1], np.float32)
     for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0].astype(np.float32)
         px, py = basis.T @ xt, basis.T @ yt
         for k in range(c):
-            np.subtract(match(px[k], TargetHistogram(py[k]), work=work), px[k], out=px[k])
+            np.subtract(match(px[k], TargetHistogram(py[k]), out=moved), px[k], out=px[k])
         xt += basis @ px
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
