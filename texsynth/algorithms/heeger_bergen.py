@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..blocks.color import ColorPCA, sliced_transfer
+from ..blocks.color import ColorPCA, sliced_transfer_rows
 from ..blocks.histogram import (
     BINS,
     JointTarget,
@@ -92,22 +92,21 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands))
         setup((c + 1) / channels, "analysing the exemplar")
-    image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)], axis=2)
+    image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
-            pw = match_subbands[c](pyr_output.analyze(image[:, :, c]))
-            image[:, :, c] = match(pyr_output.synthesize(pw), pixels[c])
+            pw = match_subbands[c](pyr_output.analyze(image[c]))
+            match(pyr_output.synthesize(pw), pixels[c], out=image[c])
             iterating((it + (c + 1) / channels) / iterations,
                       f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}")
         if channels > 1:
             last = it == iterations - 1
-            image = sliced_transfer(image.reshape(-1, channels), colours, rng,
-                                    FINAL_SLICES if last else SLICES_PER_ITERATION,
-                                    progress.span(0.9, 1.0) if last else None
-                                    ).reshape(image.shape)
+            sliced_transfer_rows(image.reshape(channels, -1), colours, rng,
+                                 FINAL_SLICES if last else SLICES_PER_ITERATION,
+                                 progress.span(0.9, 1.0) if last else None)
 
-    result = pca.inverse(image)
+    result = pca.inverse(np.moveaxis(image, 0, -1))
     return np.clip(result, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
 
 

@@ -31,8 +31,8 @@ __all__ = ["TargetHistogram", "match", "JointTarget", "JointWork", "match_joint"
 
 #: Bins of the source's histogram in the fast path (at most four per source value).
 BINS = 1 << 16
-#: Values per step inside one thread's range: a step's temporaries stay in the core's cache.
-STEP = 1 << 16
+#: Values per step inside one thread's range: a step's temporaries (3 MiB) stay in cache.
+STEP = 1 << 18
 
 
 class TargetHistogram:
