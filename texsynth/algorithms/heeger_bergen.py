@@ -169,18 +169,18 @@ class _OrientedMatch:
 
 def _memory(shape, width, height, params):
     """Output and noise (C floats), one channel's pyramid and spectra, the sliced transport's
-    copies and projections (4 x C floats), the 1-D matches' work arrays (16 B, twice: the
-    iterations' and the colour steps'), every channel's exemplar targets.
+    copies and projections (4 x C floats), the synthesis' subband spectra, all held at once while
+    they are computed side by side (about 26 B, counted 32), every channel's exemplar targets.
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
     The exemplar's share counts its periodic component, PCA and pyramid spectra (tracemalloc:
-    about 95 B a pixel at K = 4), and the fast matching's cumulative histograms (``BINS`` each);
+    about 95 B a pixel at K = 4), and the fast matching's histogram tables (``BINS`` each);
     tests/test_contract.py holds the estimate above the measured peak.
     """
     k = params["orientations"]
     per_pixel = 24 * shape[2] + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
-    per_pixel += 2 * 16
+    per_pixel += 32
     per_pixel += (105 if params.get("joint") else 0) + (30 if params.get("steered") else 0)
     per_exemplar = 8 * (k * 4 / 3 + 6) + 36 * shape[2] + (16 * k if params.get("joint") else 0)
     return per_pixel * width * height + per_exemplar * shape[0] * shape[1] + 64 * BINS

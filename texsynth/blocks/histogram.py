@@ -8,14 +8,14 @@ different sizes match through quantiles: ic_1(p) interpolates the target's sorte
 The target side (the exemplar's band) never changes across Heeger-Bergen iterations, so
 :class:`TargetHistogram` sorts it once. The source side changes every iteration; instead of ranking
 it with a full sort, :func:`match` builds c_2 from a fine histogram of the source's range
-(``bins`` = 65536 bins, one O(N) pass of ``bincount``) and sends every value of a bin to ic_1 of
-the bin's middle rank: one table look-up per value. A value alone in its bin gets its exact rank;
-the values sharing a bin share the middle of their ranks, an error bounded by half the target's
-quantile step across the bin (measured in tests/test_histogram.py against the sort-based
-``exact=True`` path: on 2048^2 pyramid bands of a photo as small as the former 4096-bin linear
-interpolation's, 20 times smaller on pixel values). Deviation: the passes run on disjoint ranges
-on every core (``texsynth.blocks.parallel``), cache-sized step by step; counts and extremes are
-exact, so the result does not depend on the split.
+(``bins`` = 65536 bins, at most N / 4; one O(N) pass of ``bincount``) and sends every value of a
+bin to ic_1 of the bin's middle rank: one table look-up per value. A value alone in its bin gets
+its exact rank; the values sharing a bin share the middle of their ranks, an error bounded by half
+the target's quantile step across the bin (measured in tests/test_histogram.py against the
+sort-based ``exact=True`` path; on 2048^2 pyramid bands of a photo as small as the former 4096-bin
+linear interpolation's, 20 times smaller on pixel values). Deviation: the passes run on disjoint
+ranges on every core (``texsynth.blocks.parallel``), cache-sized step by step; counts and
+extremes are exact, so the result does not depend on the split.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from .parallel import ranges, run
 
 __all__ = ["TargetHistogram", "match", "JointTarget", "JointWork", "match_joint"]
 
-#: Bins of the source's histogram in the fast path (at most four per source value).
+#: Bins of the source's histogram in the fast path (at most a quarter of the source's size).
 BINS = 1 << 16
 #: Values per step inside one thread's range: a step's temporaries (3 MiB) stay in cache.
 STEP = 1 << 18
@@ -58,12 +58,17 @@ class TargetHistogram:
 
 
 class _Scratch(threading.local):
-    """Each thread's temporaries for one step of :func:`match` (reused: fresh MB-sized arrays
-    cost page faults that outweighed the arithmetic)."""
+    """Each thread's temporaries for one step of :func:`match`, grown on demand and reused
+    (fresh MB-sized arrays cost page faults that outweighed the arithmetic)."""
 
     def __init__(self):
-        self.t = np.empty(STEP, np.float32)
-        self.index = np.empty(STEP, np.intp)
+        self.t = np.empty(0, np.float32)
+        self.index = np.empty(0, np.intp)
+
+    def views(self, size: int):
+        if self.t.size < size:
+            self.t, self.index = np.empty(size, np.float32), np.empty(size, np.intp)
+        return self.t[:size], self.index[:size]
 
 
 _scratch = _Scratch()
@@ -95,12 +100,12 @@ def match(source: np.ndarray, target: TargetHistogram, exact: bool = False,
     if hi <= lo:
         result[:] = target.quantile(0.5)
         return out
-    bins = min(bins, 4 * n)
+    bins = min(bins, max(n // 4, 16))                    # the table costs O(bins)
     lo, scale = np.float32(lo), np.float32(bins / (float(hi) - float(lo)))
 
     def index(start: int, stop: int) -> np.ndarray:
         """Bin of each value: floor((v - lo) scale), 0..bins (the maximum alone in ``bins``)."""
-        t, i = _scratch.t[:stop - start], _scratch.index[:stop - start]
+        t, i = _scratch.views(stop - start)
         np.subtract(flat[start:stop], lo, out=t)
         t *= scale
         np.copyto(i, t, casting="unsafe")                     # truncation: t >= 0
