@@ -83,9 +83,9 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
     for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0].astype(np.float32)
         _product(basis.T, xt, px)                          # px = R^T x
-        py = basis.T @ yt
+        targets = run(TargetHistogram, basis.T @ yt)       # C sorts side by side
         for k in range(c):
-            match(px[k], TargetHistogram(py[k]), out=moved[k])
+            match(px[k], targets[k], out=moved[k])
         _product(basis, moved, xt, minus=px)               # x += R (match - px)
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")

@@ -15,8 +15,9 @@ Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
 - real FFTs (``rfft2``) and float32 / complex64 throughout (the masks are built in float64,
   cos(theta - theta_m) as the projection of the unit frequency, no arctan2, and stored float32);
 - the inverse transforms of all subbands of an analysis, and the forward transforms of a
-  synthesis, run side by side on every core (``texsynth.blocks.parallel``), one core each, and
-  are combined in a fixed order, so results do not depend on the number of cores;
+  synthesis (a level's bands two by two), run side by side on every core
+  (``texsynth.blocks.parallel``), one core each, and are combined in a fixed order, so results
+  do not depend on the number of cores;
 - radii are measured in cycles per pixel of the *full-resolution* grid, and each decimation crops
   the spectrum and rescales it by the ratio of sizes, so band values are samples of the same
   band-limited function whatever the image size. An exemplar and an output of different sizes
@@ -200,21 +201,25 @@ class SteerablePyramid:
 
     def synthesize(self, coeffs: Coefficients) -> np.ndarray:
         """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
-        k = self.orientations
-        filters = [self.hi0, *(f for level in self.band_filters for f in level), None]
-        spectra = run(_filtered_spectrum, zip(coeffs.arrays(), filters, strict=True))
-        low = spectra[-1]
         conj_phase = np.complex64(np.conj(self.phase))
+        # jobs: the high-pass, each level's bands two by two (a fixed grouping), the low-pass
+        jobs = [([coeffs.highpass], [self.hi0], None)]
+        groups = []
+        for level, filters in zip(coeffs.bands, self.band_filters, strict=True):
+            pairs = range(0, len(level), 2)
+            groups.append(len(pairs))
+            jobs += [(level[m:m + 2], filters[m:m + 2], conj_phase) for m in pairs]
+        jobs.append(([coeffs.lowpass], [None], None))
+        spectra = run(_filtered_spectrum, jobs)
+        low, start = spectra[-1], 1 + sum(groups)
         for j in reversed(range(self.scales)):
-            level = spectra[1 + j * k: 1 + (j + 1) * k]
-            bands = level[0]
-            for band in level[1:]:
-                bands += band
-            bands *= conj_phase
+            start -= groups[j]
             low = self._embed(low, j) * self.low_masks[j]
-            low += bands
-        spectrum = low * self.lo0 + spectra[0]
-        return _irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+            for partial in spectra[start:start + groups[j]]:
+                low += partial
+        low *= self.lo0
+        low += spectra[0]
+        return _irfft2(low, s=self.shape).astype(np.float32, copy=False)
 
 
 def _band_from_spectrum(job) -> np.ndarray:
@@ -224,12 +229,21 @@ def _band_from_spectrum(job) -> np.ndarray:
 
 
 def _filtered_spectrum(job) -> np.ndarray:
-    """One subband's spectrum times its filter (if any), on one core."""
-    band, f = job
-    spectrum = _rfft2(np.asarray(band, dtype=np.float32), workers=1)
-    if f is not None:
-        spectrum *= f
-    return spectrum
+    """Sum of a few subbands' spectra times their filters (``None``: none), times ``phase``
+    (``None``: 1), on one core."""
+    bands, filters, phase = job
+    total = None
+    for band, f in zip(bands, filters, strict=True):
+        spectrum = _rfft2(np.asarray(band, dtype=np.float32), workers=1)
+        if f is not None:
+            spectrum *= f
+        if total is None:
+            total = spectrum
+        else:
+            total += spectrum
+    if phase is not None:
+        total *= phase
+    return total
 
 
 # --- Laplacian pyramid ------------------------------------------------------------------------
