@@ -160,24 +160,30 @@ class SteerablePyramid:
             radius, fx, fy = _grid(shape_j, self.shape)
             high, low = _radial_masks(radius, 2.0 ** -(j + 1))
             self.band_filters.append(_band_filters(radius, fx, fy, high, orientations))
-            self.low_masks.append(low.astype(np.float32))
             child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
             self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
             self.level_shapes.append(child)
+            # L_j is zero outside the crop (below): only its cropped part is ever used
+            self.low_masks.append(low.astype(np.float32)[self.crop_rows[j], : child[1] // 2 + 1])
 
     # The low-pass spectrum of level j is zero beyond half its band, so cropping the rows and
     # columns of the lower frequencies loses nothing; scaling by the size ratio keeps values.
     def _crop(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        """The child's spectrum: ``spectrum`` L_j, cropped and rescaled."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
         ratio = np.float32(child[0] * child[1] / (parent[0] * parent[1]))
-        return spectrum[self.crop_rows[j], : child[1] // 2 + 1] * ratio
+        cropped = spectrum[self.crop_rows[j], : child[1] // 2 + 1]
+        cropped *= self.low_masks[j]
+        cropped *= ratio
+        return cropped
 
     def _embed(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        """The adjoint of :meth:`_crop`: the child's spectrum rescaled, embedded, times L_j."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
         out = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
         ratio = np.float32(parent[0] * parent[1] / (child[0] * child[1]))
-        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio
+        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio * self.low_masks[j]
         return out
 
     def analyze(self, image: np.ndarray) -> Coefficients:
@@ -187,13 +193,14 @@ class SteerablePyramid:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
         spectrum = _rfft2(image)
         # every band's spectrum is a cheap product; their inverse transforms are the work
-        jobs = [(spectrum, self.hi0, self.shape)]
+        # every band shares the phase (-i)^(K-1), a unit in {1, -i, -1, i}: exact in any order
+        phase = np.complex64(self.phase)
+        jobs = [(spectrum, self.hi0, self.shape, None)]
         low = spectrum * self.lo0
         for j in range(self.scales):
-            phased = low * np.complex64(self.phase)  # every band of a level shares (-i)^(K-1)
-            jobs += [(phased, f, self.level_shapes[j]) for f in self.band_filters[j]]
-            low = self._crop(low * self.low_masks[j], j)
-        jobs.append((low, None, self.level_shapes[self.scales]))
+            jobs += [(low, f, self.level_shapes[j], phase) for f in self.band_filters[j]]
+            low = self._crop(low, j)
+        jobs.append((low, None, self.level_shapes[self.scales], None))
         arrays = run(_band_from_spectrum, jobs)
         k = self.orientations
         bands = [arrays[1 + j * k: 1 + (j + 1) * k] for j in range(self.scales)]
@@ -214,7 +221,7 @@ class SteerablePyramid:
         low, start = spectra[-1], 1 + sum(groups)
         for j in reversed(range(self.scales)):
             start -= groups[j]
-            low = self._embed(low, j) * self.low_masks[j]
+            low = self._embed(low, j)
             for partial in spectra[start:start + groups[j]]:
                 low += partial
         low *= self.lo0
@@ -223,9 +230,14 @@ class SteerablePyramid:
 
 
 def _band_from_spectrum(job) -> np.ndarray:
-    """One subband: the spectrum times its filter (if any), back to pixels, on one core."""
-    spectrum, f, shape = job
-    return _irfft2(spectrum if f is None else spectrum * f, s=shape, workers=1)
+    """One subband: the spectrum times its filter and phase (if any), back to pixels, on one
+    core."""
+    spectrum, f, shape, phase = job
+    if f is not None:
+        spectrum = spectrum * f
+    if phase is not None and phase != 1:
+        spectrum *= phase
+    return _irfft2(spectrum, s=shape, workers=1)
 
 
 def _filtered_spectrum(job) -> np.ndarray:
