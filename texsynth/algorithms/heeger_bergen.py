@@ -93,18 +93,21 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
                               else _BandMatch(subbands))
         setup((c + 1) / channels, "analysing the exemplar")
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
+    iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
+            message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
             pw = match_subbands[c](pyr_output.analyze(image[c]))
+            iterating((it + (c + 0.5) / channels) / iterations, message)
             match(pyr_output.synthesize(pw), pixels[c], out=image[c])
-            iterating((it + (c + 1) / channels) / iterations,
-                      f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}")
+            iterating((it + (c + 1) / channels) / iterations, message)
         if channels > 1:
             last = it == iterations - 1
+            done = (it + 1) / iterations
             sliced_transfer_rows(image.reshape(channels, -1), colours, rng,
                                  FINAL_SLICES if last else SLICES_PER_ITERATION,
-                                 progress.span(0.9, 1.0) if last else None)
+                                 progress.span(0.9, 1.0) if last else iterating.span(done, done))
 
     result = pca.inverse(np.moveaxis(image, 0, -1))
     return np.clip(result, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
