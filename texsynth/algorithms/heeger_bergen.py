@@ -39,6 +39,9 @@ Deviations, one line each:
   after the last, so the PCA components do not combine into colours the photo never had; the result
   is projected back and clipped to the exemplar's per-channel range;
 - joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
+- the matches' value ranges, the subbands' transforms and the colour steps' products run on every
+  core (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
+  cores.
 """
 
 from __future__ import annotations
