@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from texsynth.blocks import parallel
 from texsynth.blocks.pyramid import SteerablePyramid, max_scales
 
 
@@ -80,3 +81,16 @@ def test_same_subbands_as_pyrtools_up_to_the_decimation_gain():
         for m in range(4):
             np.testing.assert_allclose(ours.bands[j][m] * 4.0**j, reference[(j, m)], atol=1e-4)
     np.testing.assert_allclose(ours.lowpass * 64.0, reference["residual_lowpass"], atol=1e-3)
+
+
+def test_analysis_and_synthesis_do_not_depend_on_the_number_of_threads(monkeypatch):
+    image = np.random.default_rng(5).random((96, 80), dtype=np.float32)
+    pyramid = SteerablePyramid(image.shape, 3, 4)
+    monkeypatch.setattr(parallel, "WORKERS", 3)
+    split = pyramid.analyze(image)
+    again = pyramid.synthesize(split)
+    monkeypatch.setattr(parallel, "WORKERS", 1)
+    alone = pyramid.analyze(image)
+    for a, b in zip(split.arrays(), alone.arrays(), strict=True):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(pyramid.synthesize(alone), again)

@@ -16,9 +16,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..progress import Progress
-from .histogram import MatchWork, TargetHistogram, match
+from .histogram import STEP, TargetHistogram, match
+from .parallel import ranges, run
 
-__all__ = ["ColorPCA", "sliced_transfer", "srgb_to_linear", "linear_to_srgb"]
+__all__ = ["ColorPCA", "sliced_transfer", "sliced_transfer_rows", "srgb_to_linear",
+           "linear_to_srgb"]
 
 #: Target colours :func:`sliced_transfer` sorts per projection (a regular sample of ``y``).
 TARGET_SAMPLES = 1 << 18
@@ -64,20 +66,53 @@ def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
     ``ceil(M / TARGET_SAMPLES)``-th colour of ``y`` (the matching reads only ``BINS + 1`` of its
     quantiles). Returns a new float32 array; ``progress`` hears of every step.
     """
-    c = x.shape[1]
     xt = np.array(np.asarray(x, dtype=np.float32).T, order="C")  # (C, N): contiguous rows
+    sliced_transfer_rows(xt, y, rng, steps, progress)
+    return np.ascontiguousarray(xt.T)
+
+
+def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator,
+                         steps: int, progress: Progress | None = None) -> None:
+    """:func:`sliced_transfer` in place on the colours stored as C contiguous rows ``xt`` (C, N)
+    (float32). The products with R run in cache-sized steps on every core, as sums of rows
+    (elementwise, so the result does not depend on the split)."""
+    c = xt.shape[0]
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
-    work = MatchWork(xt.shape[1])
+    px, moved = np.empty_like(xt), np.empty_like(xt)
     for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0].astype(np.float32)
-        px, py = basis.T @ xt, basis.T @ yt
+        _product(basis.T, xt, px)                          # px = R^T x
+        targets = run(TargetHistogram, basis.T @ yt)       # C sorts side by side
         for k in range(c):
-            np.subtract(match(px[k], TargetHistogram(py[k]), work=work), px[k], out=px[k])
-        xt += basis @ px
+            match(px[k], targets[k], out=moved[k])
+        _product(basis, moved, xt, minus=px)               # x += R (match - px)
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
-    return np.ascontiguousarray(xt.T)
+
+
+def _product(m: np.ndarray, x: np.ndarray, out: np.ndarray, minus: np.ndarray | None = None):
+    """``out = m @ x`` or, given ``minus``, ``out += m @ (x - minus)`` (``x`` then overwritten),
+    for small (C, C) ``m`` and (C, N) rows, range by range on the cores."""
+    c = m.shape[0]
+
+    def part(r):
+        for a in range(r[0], r[1], STEP):
+            cols = slice(a, min(a + STEP, r[1]))
+            rows = x[:, cols]
+            if minus is not None:
+                rows -= minus[:, cols]
+            term = np.empty_like(rows[0])
+            for k in range(c):
+                target = out[k, cols]
+                if minus is None:
+                    np.multiply(rows[0], m[k, 0], out=target)
+                else:
+                    target += np.multiply(rows[0], m[k, 0], out=term)
+                for i in range(1, c):
+                    target += np.multiply(rows[i], m[k, i], out=term)
+
+    run(part, ranges(x.shape[1]))
 
 
 def srgb_to_linear(v) -> np.ndarray:

@@ -7,23 +7,32 @@ different sizes match through quantiles: ic_1(p) interpolates the target's sorte
 
 The target side (the exemplar's band) never changes across Heeger-Bergen iterations, so
 :class:`TargetHistogram` sorts it once. The source side changes every iteration; instead of ranking
-it with a full sort, :func:`match` builds c_2 from a ``bins``-bin histogram (one O(N) pass of
-``bincount``), evaluates the transfer function ``ic_1(c_2(.))`` exactly at the bin edges and
-interpolates it linearly inside each bin. At the edges this is the exact rank mapping; inside a
-bin the error is bounded by the target's quantile step across that bin (measured in
-tests/test_histogram.py against the sort-based ``exact=True`` path).
+it with a full sort, :func:`match` builds c_2 from a fine histogram of the source's range
+(``bins`` = 65536 bins, at most N / 4; one O(N) pass of ``bincount``) and sends every value of a
+bin to ic_1 of the bin's middle rank: one table look-up per value. A value alone in its bin gets
+its exact rank; the values sharing a bin share the middle of their ranks, an error bounded by half
+the target's quantile step across the bin (measured in tests/test_histogram.py against the
+sort-based ``exact=True`` path; on 2048^2 pyramid bands of a photo as small as the former 4096-bin
+linear interpolation's, 20 times smaller on pixel values). Deviation: the passes run on disjoint
+ranges on every core (``texsynth.blocks.parallel``), cache-sized step by step; counts and
+extremes are exact, so the result does not depend on the split.
 """
 
 from __future__ import annotations
 
+import threading
 from types import SimpleNamespace
 
 import numpy as np
 
-__all__ = ["TargetHistogram", "match", "MatchWork", "JointTarget", "JointWork", "match_joint"]
+from .parallel import ranges, run
 
-#: Bins of the source's cumulative histogram in the fast path.
-BINS = 4096
+__all__ = ["TargetHistogram", "match", "JointTarget", "JointWork", "match_joint"]
+
+#: Bins of the source's histogram in the fast path (at most a quarter of the source's size).
+BINS = 1 << 16
+#: Values per step inside one thread's range: a step's temporaries (3 MiB) stay in cache.
+STEP = 1 << 18
 
 
 class TargetHistogram:
@@ -48,68 +57,75 @@ class TargetHistogram:
         return (below + (position - i) * (above - below)).astype(np.float32)
 
 
-class MatchWork:
-    """Work arrays for :func:`match`'s fast path, to reuse across calls on sources of up to
-    ``capacity`` values (the same reason as :class:`JointWork`: fresh MB-sized temporaries cost
-    page faults; at 2048^2 they took half of match's time)."""
+class _Scratch(threading.local):
+    """Each thread's temporaries for one step of :func:`match`, grown on demand and reused
+    (fresh MB-sized arrays cost page faults that outweighed the arithmetic)."""
 
-    def __init__(self, capacity: int):
-        self.capacity = capacity
-        self.position = np.empty(capacity, np.float32)
-        self.slope = np.empty(capacity, np.float32)
-        self.index = np.empty(capacity, np.intp)
+    def __init__(self):
+        self.t = np.empty(0, np.float32)
+        self.index = np.empty(0, np.intp)
 
     def views(self, size: int):
-        """(position, slope, index): the first ``size`` elements of each buffer."""
-        if size > self.capacity:
-            raise ValueError(f"work arrays hold {self.capacity} values, the source has {size}")
-        return self.position[:size], self.slope[:size], self.index[:size]
+        if self.t.size < size:
+            self.t, self.index = np.empty(size, np.float32), np.empty(size, np.intp)
+        return self.t[:size], self.index[:size]
+
+
+_scratch = _Scratch()
 
 
 def match(source: np.ndarray, target: TargetHistogram, exact: bool = False,
-          bins: int = BINS, work: MatchWork | None = None) -> np.ndarray:
+          bins: int = BINS, out: np.ndarray | None = None) -> np.ndarray:
     """``source`` remapped monotonically so that its histogram is ``target``'s.
 
     ``exact=True`` ranks the source with a sort (rank r of n goes to ic_1(r / (n - 1))), the
-    textbook way; the default uses the O(N) cumulative histogram described in the module notes,
-    with its temporaries in ``work`` when given (a fresh float32 array is returned either way).
+    textbook way; the default uses the O(N) histogram described in the module notes, on every
+    core. The result goes to ``out`` (float32, C-contiguous, the source's shape; it may be the
+    source itself) or to a new array.
     """
     source = np.asarray(source, dtype=np.float32)
-    flat = source.ravel()
+    if out is None:
+        out = np.empty_like(source, order="C")
+    elif out.shape != source.shape or out.dtype != np.float32 or not out.flags.c_contiguous:
+        raise ValueError("out must be a C-contiguous float32 array of the source's shape")
+    flat, result = source.ravel(), out.reshape(-1)
     n = flat.size
     if exact:
-        out = np.empty_like(flat)
         order = np.argsort(flat, kind="stable")
-        out[order] = target.quantile(np.linspace(0.0, 1.0, n) if n > 1 else np.array([0.5]))
-        return out.reshape(source.shape)
-    lo, hi = float(flat.min()), float(flat.max())
+        result[order] = target.quantile(np.linspace(0.0, 1.0, n) if n > 1 else np.array([0.5]))
+        return out
+    parts = ranges(n)
+    extremes = run(lambda r: (flat[r[0]:r[1]].min(), flat[r[0]:r[1]].max()), parts)
+    lo, hi = min(e[0] for e in extremes), max(e[1] for e in extremes)
     if hi <= lo:
-        return np.full_like(source, target.quantile(0.5))
-    t, slope, idx = work.views(n) if work is not None else (
-        np.empty(n, np.float32), np.empty(n, np.float32), np.empty(n, np.intp))
-    # t: the value's position on the bins, 0..bins; the maximum lands on the top edge (bin
-    # ``bins``, which extends bin ``bins - 1``'s line), so no clipping pass is needed
-    np.subtract(flat, np.float32(lo), out=t)
-    t *= np.float32(bins / (hi - lo))
-    idx[:] = t  # truncation (t >= 0); intp indices make take and bincount fastest
-    cdf = np.zeros(bins + 2, np.float64)
-    np.cumsum(np.bincount(idx, minlength=bins + 1), out=cdf[1:])
-    cdf[bins] = n
-    # rank of the value at each bin edge in the exact mapping: r = (count below) - 1/2 shifted to
-    # the sample convention r / (n - 1) used by ic_1
-    edges = target.quantile(np.clip((cdf[:-1] - 0.5) / max(n - 1, 1), 0.0, 1.0))
-    edges = edges.astype(np.float64)
-    # inside bin b the transfer is the line through its edges: edge_b + (t - b) step_b, stored as
-    # intercept + t slope (one gather each, no fractional part to form)
-    step = np.append(np.diff(edges), edges[bins] - edges[bins - 1])
-    intercept = edges - np.arange(bins + 1) * step
-    intercept[bins], step[bins] = intercept[bins - 1], step[bins - 1]
-    out = np.take(intercept.astype(np.float32), idx)
-    np.take(step.astype(np.float32), idx, out=slope)
-    slope *= t
-    out += slope
-    np.clip(out, np.float32(edges[0]), np.float32(edges[bins]), out=out)  # float32 rounding
-    return out.reshape(source.shape)
+        result[:] = target.quantile(0.5)
+        return out
+    bins = min(bins, max(n // 4, 16))                    # the table costs O(bins)
+    lo, scale = np.float32(lo), np.float32(bins / (float(hi) - float(lo)))
+
+    def index(start: int, stop: int) -> np.ndarray:
+        """Bin of each value: floor((v - lo) scale), 0..bins (the maximum alone in ``bins``)."""
+        t, i = _scratch.views(stop - start)
+        np.subtract(flat[start:stop], lo, out=t)
+        t *= scale
+        np.copyto(i, t, casting="unsafe")                     # truncation: t >= 0
+        return i
+
+    def count(r: tuple[int, int]) -> np.ndarray:
+        return sum(np.bincount(index(a, min(a + STEP, r[1])), minlength=bins + 1)
+                   for a in range(r[0], r[1], STEP))
+
+    def look_up(r: tuple[int, int]) -> None:
+        for a in range(r[0], r[1], STEP):
+            b = min(a + STEP, r[1])
+            np.take(table, index(a, b), out=result[a:b], mode="clip")
+
+    counts = sum(run(count, parts))
+    below = np.cumsum(counts) - counts
+    # the bin's values hold ranks below .. below + count - 1: each goes to ic_1 of their middle
+    table = target.quantile((below + 0.5 * (counts - 1)) / max(n - 1, 1))
+    run(look_up, parts)
+    return out
 
 
 # --- Multidimensional histogram matching (Van De Ville et al. 2009, section 2.3)

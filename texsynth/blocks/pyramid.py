@@ -12,7 +12,12 @@ roots of raised cosines on log2 |w| so that ``H_j^2 + L_j^2 = 1`` and the pyrami
 synthesis is the adjoint of analysis and reconstructs exactly (to float32 rounding).
 
 Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
-- real FFTs (``rfft2``, on every core) and float32 / complex64 throughout;
+- real FFTs (``rfft2``) and float32 / complex64 throughout (the masks are built in float64,
+  cos(theta - theta_m) as the projection of the unit frequency, no arctan2, and stored float32);
+- the inverse transforms of all subbands of an analysis, and the forward transforms of a
+  synthesis (a level's bands two by two), run side by side on every core
+  (``texsynth.blocks.parallel``), one core each, and are combined in a fixed order, so results
+  do not depend on the number of cores;
 - radii are measured in cycles per pixel of the *full-resolution* grid, and each decimation crops
   the spectrum and rescales it by the ratio of sizes, so band values are samples of the same
   band-limited function whatever the image size. An exemplar and an output of different sizes
@@ -27,17 +32,19 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft as sfft
 
+from .parallel import run
+
 __all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
 
 
-def _rfft2(image: np.ndarray) -> np.ndarray:
-    """scipy's real FFT on every core (rows and columns are independent transforms, so the
-    result does not depend on the number of threads)."""
-    return sfft.rfft2(image, workers=-1)
+def _rfft2(image: np.ndarray, workers: int = -1) -> np.ndarray:
+    """scipy's real FFT, on every core by default (rows and columns are independent transforms,
+    so the result does not depend on the number of threads)."""
+    return sfft.rfft2(image, workers=workers)
 
 
-def _irfft2(spectrum: np.ndarray, s) -> np.ndarray:
-    return sfft.irfft2(spectrum, s=s, workers=-1)
+def _irfft2(spectrum: np.ndarray, s, workers: int = -1) -> np.ndarray:
+    return sfft.irfft2(spectrum, s=s, workers=workers)
 
 
 def max_scales(shape: tuple[int, int]) -> int:
@@ -57,22 +64,45 @@ def _check_scales(shape: tuple[int, int], scales: int) -> None:
 
 
 def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int]):
-    """Radius (cycles per full-resolution pixel, Nyquist = 1) and angle on a level's rfft grid."""
+    """Radius (cycles per full-resolution pixel, Nyquist = 1) on a level's rfft grid, and the
+    frequency's two components fx, fy (float64)."""
     h, w = shape_level
     ky = np.fft.fftfreq(h) * h
     kx = np.fft.rfftfreq(w) * w
     fy = (2.0 * ky / shape_full[0])[:, None]
     fx = (2.0 * kx / shape_full[1])[None, :]
     radius = np.sqrt(fx * fx + fy * fy)
-    angle = np.arctan2(fy + 0 * fx, fx + 0 * fy)
-    return radius, angle
+    return radius, fx, fy
 
 
 def _radial_masks(radius: np.ndarray, top: float):
     """(high, low) square-root raised-cosine masks for the octave ``[top/2, top]``."""
     with np.errstate(divide="ignore"):
         t = np.clip(np.log2(radius / top) + 1.0, 0.0, 1.0)
-    return np.sin(0.5 * np.pi * t), np.cos(0.5 * np.pi * t)
+    t *= 0.5 * np.pi
+    return np.sin(t), np.cos(t)
+
+
+def _band_filters(radius, fx, fy, high, orientations: int) -> list[np.ndarray]:
+    """The K float32 filters alpha_K cos^(K-1)(theta - theta_m) H_j of one level, built side by
+    side. cos(theta - theta_m) is the unit frequency projected on (cos theta_m, sin theta_m)
+    (theta = 0 at the origin, as arctan2(0, 0) gives)."""
+    with np.errstate(divide="ignore"):
+        inverse = np.where(radius > 0, 1.0 / radius, 0.0)
+    ux, uy = fx * inverse, fy * inverse
+    ux[0, 0] = 1.0
+    gain = _angular_gain(orientations)
+
+    def band(m: int) -> np.ndarray:
+        c = ux * math.cos(np.pi * m / orientations)
+        c += uy * math.sin(np.pi * m / orientations)
+        f = gain * c if orientations > 1 else np.full_like(c, gain)
+        for _ in range(orientations - 2):                  # cos^(K-1)
+            f *= c
+        f *= high
+        return f.astype(np.float32)
+
+    return run(band, range(orientations))
 
 
 def _angular_gain(orientations: int) -> float:
@@ -118,13 +148,8 @@ class SteerablePyramid:
         self.scales = scales
         self.orientations = orientations
         self.phase = (-1j) ** (orientations - 1)
-        gain = _angular_gain(orientations)
-        order = orientations - 1
-
-        radius, _ = _grid(self.shape, self.shape)
-        hi0, lo0 = _radial_masks(radius, 1.0)
-        self.hi0 = hi0.astype(np.float32)
-        self.lo0 = lo0.astype(np.float32)
+        radius, _, _ = _grid(self.shape, self.shape)
+        self.hi0, self.lo0 = (m.astype(np.float32) for m in _radial_masks(radius, 1.0))
 
         self.level_shapes = [self.shape]
         self.band_filters: list[list[np.ndarray]] = []
@@ -132,30 +157,33 @@ class SteerablePyramid:
         self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
             shape_j = self.level_shapes[-1]
-            radius, angle = _grid(shape_j, self.shape)
+            radius, fx, fy = _grid(shape_j, self.shape)
             high, low = _radial_masks(radius, 2.0 ** -(j + 1))
-            self.band_filters.append([
-                (gain * np.cos(angle - np.pi * m / orientations) ** order * high).astype(np.float32)
-                for m in range(orientations)
-            ])
-            self.low_masks.append(low.astype(np.float32))
+            self.band_filters.append(_band_filters(radius, fx, fy, high, orientations))
             child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
             self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
             self.level_shapes.append(child)
+            # L_j is zero outside the crop (below): only its cropped part is ever used
+            self.low_masks.append(low.astype(np.float32)[self.crop_rows[j], : child[1] // 2 + 1])
 
     # The low-pass spectrum of level j is zero beyond half its band, so cropping the rows and
     # columns of the lower frequencies loses nothing; scaling by the size ratio keeps values.
     def _crop(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        """The child's spectrum: ``spectrum`` L_j, cropped and rescaled."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
         ratio = np.float32(child[0] * child[1] / (parent[0] * parent[1]))
-        return spectrum[self.crop_rows[j], : child[1] // 2 + 1] * ratio
+        cropped = spectrum[self.crop_rows[j], : child[1] // 2 + 1]
+        cropped *= self.low_masks[j]
+        cropped *= ratio
+        return cropped
 
     def _embed(self, spectrum: np.ndarray, j: int) -> np.ndarray:
+        """The adjoint of :meth:`_crop`: the child's spectrum rescaled, embedded, times L_j."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
         out = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
         ratio = np.float32(parent[0] * parent[1] / (child[0] * child[1]))
-        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio
+        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio * self.low_masks[j]
         return out
 
     def analyze(self, image: np.ndarray) -> Coefficients:
@@ -164,32 +192,70 @@ class SteerablePyramid:
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
         spectrum = _rfft2(image)
-        highpass = _irfft2(spectrum * self.hi0, s=self.shape)
+        # every band's spectrum is a cheap product; their inverse transforms are the work
+        # every band shares the phase (-i)^(K-1), a unit in {1, -i, -1, i}: exact in any order
+        phase = np.complex64(self.phase)
+        jobs = [(spectrum, self.hi0, self.shape, None)]
         low = spectrum * self.lo0
-        bands = []
         for j in range(self.scales):
-            shape_j = self.level_shapes[j]
-            phased = low * np.complex64(self.phase)  # every band of a level shares (-i)^(K-1)
-            bands.append([_irfft2(phased * f, s=shape_j) for f in self.band_filters[j]])
-            low = self._crop(low * self.low_masks[j], j)
-        lowpass = _irfft2(low, s=self.level_shapes[self.scales])
-        return Coefficients(highpass, bands, lowpass)
+            jobs += [(low, f, self.level_shapes[j], phase) for f in self.band_filters[j]]
+            low = self._crop(low, j)
+        jobs.append((low, None, self.level_shapes[self.scales], None))
+        arrays = run(_band_from_spectrum, jobs)
+        k = self.orientations
+        bands = [arrays[1 + j * k: 1 + (j + 1) * k] for j in range(self.scales)]
+        return Coefficients(arrays[0], bands, arrays[-1])
 
     def synthesize(self, coeffs: Coefficients) -> np.ndarray:
         """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
-        low = _rfft2(coeffs.lowpass.astype(np.float32, copy=False))
         conj_phase = np.complex64(np.conj(self.phase))
+        # jobs: the high-pass, each level's bands two by two (a fixed grouping), the low-pass
+        jobs = [([coeffs.highpass], [self.hi0], None)]
+        groups = []
+        for level, filters in zip(coeffs.bands, self.band_filters, strict=True):
+            pairs = range(0, len(level), 2)
+            groups.append(len(pairs))
+            jobs += [(level[m:m + 2], filters[m:m + 2], conj_phase) for m in pairs]
+        jobs.append(([coeffs.lowpass], [None], None))
+        spectra = run(_filtered_spectrum, jobs)
+        low, start = spectra[-1], 1 + sum(groups)
         for j in reversed(range(self.scales)):
-            bands = np.zeros_like(low, shape=(self.level_shapes[j][0],
-                                              self.level_shapes[j][1] // 2 + 1))
-            for f, band in zip(self.band_filters[j], coeffs.bands[j], strict=True):
-                bands += _rfft2(band.astype(np.float32, copy=False)) * f
-            bands *= conj_phase
-            low = self._embed(low, j) * self.low_masks[j]
-            low += bands
-        high = _rfft2(coeffs.highpass.astype(np.float32, copy=False))
-        spectrum = low * self.lo0 + high * self.hi0
-        return _irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+            start -= groups[j]
+            low = self._embed(low, j)
+            for partial in spectra[start:start + groups[j]]:
+                low += partial
+        low *= self.lo0
+        low += spectra[0]
+        return _irfft2(low, s=self.shape).astype(np.float32, copy=False)
+
+
+def _band_from_spectrum(job) -> np.ndarray:
+    """One subband: the spectrum times its filter and phase (if any), back to pixels, on one
+    core."""
+    spectrum, f, shape, phase = job
+    if f is not None:
+        spectrum = spectrum * f
+    if phase is not None and phase != 1:
+        spectrum *= phase
+    return _irfft2(spectrum, s=shape, workers=1)
+
+
+def _filtered_spectrum(job) -> np.ndarray:
+    """Sum of a few subbands' spectra times their filters (``None``: none), times ``phase``
+    (``None``: 1), on one core."""
+    bands, filters, phase = job
+    total = None
+    for band, f in zip(bands, filters, strict=True):
+        spectrum = _rfft2(np.asarray(band, dtype=np.float32), workers=1)
+        if f is not None:
+            spectrum *= f
+        if total is None:
+            total = spectrum
+        else:
+            total += spectrum
+    if phase is not None:
+        total *= phase
+    return total
 
 
 # --- Laplacian pyramid ------------------------------------------------------------------------
@@ -218,7 +284,7 @@ class LaplacianPyramid:
         self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
             parent = self.level_shapes[-1]
-            radius, _ = _grid(parent, self.shape)
+            radius, _, _ = _grid(parent, self.shape)
             self.low_masks.append(_radial_masks(radius, 2.0 ** -(j + 1))[1].astype(np.float32))
             child = ((parent[0] + 1) // 2, (parent[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)

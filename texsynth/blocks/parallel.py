@@ -1,0 +1,57 @@
+"""Running independent pieces of numpy work on every core.
+
+numpy and scipy release the GIL inside their large loops (ufuncs, ``take``, ``bincount``,
+reductions, pocketfft), so Python threads run such pieces side by side. Callers split work so
+that the result never depends on the split: elementwise work on disjoint ranges, exact
+reductions (integer counts, minimum, maximum), or whole independent transforms combined in a
+fixed order. The number of cores and the timing then change only the speed, never the output.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+__all__ = ["WORKERS", "run", "ranges"]
+
+#: Threads of the shared pool: the cores this process may use.
+WORKERS = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+              else os.cpu_count() or 1)
+
+_pool: ThreadPoolExecutor | None = None
+_lock = threading.Lock()
+_inside = threading.local()                          # set in the pool's threads
+
+
+def _mark_inside() -> None:
+    _inside.flag = True
+
+
+def _executor() -> ThreadPoolExecutor:
+    global _pool
+    with _lock:
+        if _pool is None:
+            _pool = ThreadPoolExecutor(WORKERS, thread_name_prefix="texsynth",
+                                       initializer=_mark_inside)
+        return _pool
+
+
+def run(function, items) -> list:
+    """``[function(item) for item in items]``, the calls spread over the pool's threads.
+
+    Called from inside the pool (a nested split), or with one item or one core, the calls run
+    in this thread, so nesting never waits on itself.
+    """
+    items = list(items)
+    if len(items) < 2 or WORKERS < 2 or getattr(_inside, "flag", False):
+        return [function(item) for item in items]
+    return list(_executor().map(function, items))
+
+
+def ranges(n: int, smallest: int = 1 << 16) -> list[tuple[int, int]]:
+    """``[start, stop)`` ranges covering ``range(n)``: one per worker, none under ``smallest``
+    elements (fewer ranges for small ``n``)."""
+    parts = max(1, min(WORKERS, n // smallest))
+    bounds = [n * i // parts for i in range(parts + 1)]
+    return list(zip(bounds[:-1], bounds[1:], strict=True))
