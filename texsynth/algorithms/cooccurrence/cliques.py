@@ -232,9 +232,13 @@ class Relaxation:
     of the local proposals in levels (0: proposals from the singleton target only, as for
     labels, whose levels have no order).
 
-    Every term is looked at from both ends: a free pixel p is the head of the clique
-    (p, p + d) and the tail of (p - d, p). The 2T (term, end) pairs of a set are evaluated in one
-    (pixels, 2T) gather, so a set costs a handful of numpy calls whatever T is.
+    A free pixel p is the head of the cliques (p, p + d) and the tail of (p - d, p): each
+    (term, end) whose own end is in the free class is a column. The image is kept as codes
+    ``label * bins + mark``, so one gather of p's neighbours gives, per column, both the
+    neighbour's class and the clique's difference bin; per set, a table per column holds the
+    change of E for a clique entering or leaving each bin, and zero where the neighbour is not
+    of the column's other class (the clique is not one of the term's). The (pixels, columns)
+    work of a set is then a gather, two table look-ups and a sum, whatever the labels.
     """
 
     def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3):
@@ -245,7 +249,8 @@ class Relaxation:
         self.step = int(step)
         u = np.asarray(u, np.int32)
         self.shape = h, w = u.shape
-        labels = np.zeros(self.shape, np.int32) if labels is None else np.asarray(labels)
+        labels = np.zeros(self.shape, np.int64) if labels is None else np.asarray(labels,
+                                                                                   np.int64)
         free = labels == free_class
         self.level_of = np.full(self.span + 1, -1, np.int32)
         self.level_of[self.levels] = np.arange(len(self.levels))
@@ -256,7 +261,7 @@ class Relaxation:
 
         # a toroidally padded flat copy: the neighbour of padded index P at offset d is P + d_flat
         t = len(self.terms)
-        offsets = np.array([term.offset for term in self.terms], np.int32).reshape(t, 2)
+        offsets = np.array([term.offset for term in self.terms], np.int64).reshape(t, 2)
         m = max(1, int(np.abs(offsets).max(initial=0)))
         self.m, self.wp = m, w + 2 * m
         pad_y, pad_x = np.mgrid[0:h + 2 * m, 0:w + 2 * m]
@@ -265,58 +270,56 @@ class Relaxation:
         self._ghost_dst = np.flatnonzero(ghost)
         core = src.ravel()[self._ghost_dst]
         self._ghost_src = (core // w + m) * self.wp + core % w + m
-        self.pad = u.ravel()[src.ravel()].astype(np.int32)  # flat, (h + 2m) x (w + 2m)
+        self.classes = int(labels.max(initial=0)) + 1
+        self.pad = (labels * self.bins + u).ravel()[src.ravel()]  # int64 codes
+        self._shift = int(free_class) * self.bins  # the code of a free pixel is mark + shift
 
-        # the (term, end) columns: heads look at p + d, tails at p - d
-        d_flat = offsets[:, 0] * self.wp + offsets[:, 1]
-        self._reach = np.concatenate([d_flat, -d_flat])
-        self._sign = np.repeat(np.array([1, -1], np.int32), t)
-        self._base = np.tile(np.arange(t, dtype=np.int32) * self.bins, 2) + self.span
-        takes_part = []  # (H, W) per column: p is free and the clique's other end is in class
-        for end in (0, 1):
-            for term in self.terms:
-                mine, other = (term.head, term.tail) if end == 0 else (term.tail, term.head)
-                dy, dx = term.offset if end == 0 else (-term.offset[0], -term.offset[1])
-                takes_part.append((labels == mine) & (np.roll(labels, (-dy, -dx), (0, 1))
-                                                       == other))
-        intra = [term.offset for term in self.terms
-                 if term.head == free_class and term.tail == free_class]
+        # the columns: (term, end) with the pixel's own end in the free class
+        cols = [(i, end) for end in (0, 1) for i, term in enumerate(self.terms)
+                if (term.head, term.tail)[end] == free_class]
+        self._term = np.array([i for i, _ in cols], np.int64)
+        self._tail = np.array([end == 1 for _, end in cols], bool)
+        self._other = np.array([(self.terms[i].tail, self.terms[i].head)[end]
+                                for i, end in cols], np.int64)
+        sign = np.where(self._tail, -1, 1)
+        self._reach = sign * (offsets[self._term, 0] * self.wp + offsets[self._term, 1])
+        self._base = np.arange(len(cols), dtype=np.int64) * self.classes * self.bins + self.span
+        # each clique is counted once, from its end in the free class (its head when both are)
+        heads = np.array([self.terms[i].head for i, _ in cols], np.int64)
+        counting = ~self._tail | (heads != free_class)
+
         # the colouring of the whole torus, as (row, col) per set; each sweep shifts it by a
         # random translation (a fixed one leaves the pixels its wrap-around repair recoloured as
         # a band of small sets, which take up the histograms' slack more eagerly: a seam)
+        intra = [term.offset for term in self.terms
+                 if term.head == free_class and term.tail == free_class]
         self.sets = [(s // w, s % w) for s in colour_sets(self.shape, intra)]
         self._free = None if free.all() else free.ravel()
-        plain = t == 0 or all(tp.all() for tp in takes_part)
-        self._takes_part = None if plain else np.stack([tp.ravel() for tp in takes_part], 1)
-
-        core_u = self.image
-        # no term (white noise selects none): the singleton histogram alone drives the sweeps
-        self.counts = np.array([
-            difference_histograms(core_u, [term.offset], self.span, True, labels,
-                                  [(term.head, term.tail)])[0] for term in self.terms],
-            np.float64).reshape(t, self.bins)
-        self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
         self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
             t, self.bins)
         self.singleton_target = np.asarray(singleton, np.float64) / np.sum(singleton)
-        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
-        # and enters, paid by every clique of a pixel that changes value (the pairs per term
-        # never change, so each pixel's sum over the cliques it takes part in is fixed)
-        second = np.tile(2.0 / self.pairs ** 2, 2)
-        self._second_all = second.sum()
-        self._second_part = None
-        if self._takes_part is not None:  # column by column: a float (pixels, 2T) copy is GBs
-            self._second_part = np.zeros(h * w)
-            for j, weight in enumerate(second):
-                self._second_part[self._takes_part[:, j]] += weight
         self.n_free = max(int(free.sum()), 1)
-        self.singleton_counts = np.bincount(self.level_of[core_u[free]],
+        self.counts = np.zeros((t, self.bins))
+        free_flat = np.flatnonzero(free)
+        padded = (free_flat // w + m) * self.wp + free_flat % w + m
+        x = self.pad[padded] - self._shift
+        if counting.any():
+            step = max(1024, BLOCK // int(counting.sum()))
+            raw = np.zeros(len(cols) * self.classes * self.bins, np.int64)
+            for a in range(0, x.size, step):
+                b = slice(a, a + step)
+                raw += np.bincount((self._neighbours(padded[b], counting)
+                                    - x[b, None]).ravel(), minlength=raw.size)
+            self.counts = self._fold(raw)
+        self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
+        self.singleton_counts = np.bincount(self.level_of[x],
                                             minlength=len(self.levels)).astype(np.float64)
 
     @property
     def image(self) -> np.ndarray:
         m, (h, w) = self.m, self.shape
-        return self.pad.reshape(h + 2 * m, self.wp)[m:m + h, m:m + w].copy()
+        core = self.pad.reshape(h + 2 * m, self.wp)[m:m + h, m:m + w]
+        return (core % self.bins).astype(np.int32)
 
     def distances(self) -> np.ndarray:
         """Euclidean distance of each term's histogram to its target (the paper's step 4)."""
@@ -328,6 +331,41 @@ class Relaxation:
 
     def energy(self) -> float:
         return float((self.distances() ** 2).sum() + self.singleton_distance() ** 2)
+
+    def _neighbours(self, padded, columns=None) -> np.ndarray:
+        """Code of the other end of each column's clique, plus the column's table base:
+        int64 (pixels, columns); minus a pixel's mark it indexes the column tables."""
+        reach, base = self._reach, self._base
+        if columns is not None:
+            reach, base = reach[columns], base[columns]
+        return self.pad[padded[:, None] + reach] + base
+
+    def _fold(self, raw) -> np.ndarray:
+        """(T, bins) term counts from counts over the column tables' cells."""
+        cells = raw.reshape(len(self._term), self.classes, self.bins)
+        mine = cells[np.arange(len(self._term)), self._other]
+        # a tail column's cell k is the clique difference -(k - span): mirrored
+        mine[self._tail] = mine[self._tail, ::-1]
+        out = np.zeros((len(self.terms), self.bins))
+        np.add.at(out, self._term, mine)
+        return out
+
+    def _tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """Flat (columns, classes, bins) tables: the change of E when a clique enters (first)
+        or leaves (second, negated) a bin, to first order plus its half of the 1/N^2 each."""
+        n = self.pairs[:, None]
+        grad = 2.0 * (self.counts / n - self.targets) / n
+        second = 1.0 / n ** 2
+        enter = (grad + second)[self._term]
+        leave = (second - grad)[self._term]
+        for table in (enter, leave):
+            table[self._tail] = table[self._tail, ::-1]
+        shape = (len(self._term), self.classes, self.bins)
+        tables = np.zeros((2,) + shape, np.float32)
+        rows = np.arange(len(self._term))
+        tables[0][rows, self._other] = enter
+        tables[1][rows, self._other] = leave
+        return tables[0].ravel(), tables[1].ravel()
 
     def _propose(self, x, rng):
         n = len(self.levels)
@@ -343,7 +381,7 @@ class Relaxation:
         random translation; returns the fraction of changed pixels. ``tick(done, sets)``, when
         given, is called after every set (where a caller may cancel)."""
         changed = total = 0
-        t = len(self.terms)
+        c = len(self._term)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
@@ -353,78 +391,65 @@ class Relaxation:
                 tick(done, len(self.sets))
             rows, cols = self.sets[k]
             rows, cols = (rows + sy) % h, (cols + sx) % w
-            flat = rows * w + cols
             if self._free is not None:
-                keep = self._free[flat]
-                rows, cols, flat = rows[keep], cols[keep], flat[keep]
-                if not flat.size:
+                keep = self._free[rows * w + cols]
+                rows, cols = rows[keep], cols[keep]
+                if not rows.size:
                     continue
             padded = (rows + m) * wp + cols + m
-            part = self._takes_part  # (pixels, 2T): p takes part in the clique (or None: all do)
-            parts = self._second_all if part is None else self._second_part[flat]
-            grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
-                    / self.pairs[:, None]).astype(np.float32).ravel()
+            enter, leave = self._tables() if c else (None, None)
             g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
-            x = self.pad[padded]
+            x = self.pad[padded] - self._shift
             y = self._propose(x, rng)
+            total += x.size
+            # a proposal of the value the pixel has changes nothing: only the others are looked at
+            moves = np.flatnonzero(x != y)
+            padded, x, y = padded[moves], x[moves], y[moves]
             lx, ly = self.level_of[x], self.level_of[y]
-            de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts)
-            if t:
-                # in blocks of rows: the (rows, 2T) temporaries stay in cache
-                step = max(1024, BLOCK // (2 * t))
+            de = g_s[ly] - g_s[lx] + 2.0 / self.n_free ** 2  # the columns' 1/N^2 are in the tables
+            if c:
+                # in blocks of rows: the (rows, columns) temporaries stay in cache
+                step = max(1024, BLOCK // c)
                 for a in range(0, x.size, step):
                     b = slice(a, a + step)
-                    bo, bn = self._bins(padded[b], x[b], y[b])
-                    delta = grad[bn]
-                    delta -= grad[bo]
-                    if part is not None:
-                        delta *= part[flat[b]]
+                    nb = self._neighbours(padded[b])
+                    delta = enter[nb - y[b, None]]
+                    delta += leave[nb - x[b, None]]
                     de[b] += delta.sum(axis=1)
-            total += x.size
             accept = np.flatnonzero(de < 0)
-            accept = accept[np.argsort(de[accept], kind="stable")]
-            bo, bn = self._bins(padded[accept], x[accept], y[accept]) if t else (None, None)
-            part_a = None if part is None else part[flat[accept]]
+            nb = self._neighbours(padded[accept]) if c else None
             # backtracking: the improving pixels' changes add up exactly in the histograms, so
             # the true change of E is known; while it is not a decrease (many pixels moving mass
-            # into the same bins overshoot), keep only the better half
+            # into the same bins overshoot), keep only the better half (ranked when first needed)
+            ranked = False
             while accept.size:
                 d_s = (np.bincount(ly[accept], minlength=len(self.levels))
                        - np.bincount(lx[accept], minlength=len(self.levels)))
-                d_c = self._count_change(bn, bo, part_a, accept.size)
+                d_c = self._count_change(nb, x[accept], y[accept])
                 if self._change(d_c, d_s) < 0:
                     break
+                if not ranked:
+                    order = np.argsort(de[accept], kind="stable")
+                    accept, nb, ranked = accept[order], None if nb is None else nb[order], True
                 accept = accept[:accept.size // 2]
             if not accept.size:
                 continue
             changed += accept.size
-            self.pad[padded[accept]] = y[accept]
+            self.pad[padded[accept]] = y[accept] + self._shift
             self.pad[self._ghost_dst] = self.pad[self._ghost_src]
             self.singleton_counts += d_s
             self.counts += d_c
         return changed / max(total, 1)
 
-    def _bins(self, padded, x, y):
-        """(old, new) bins in the flat (T, bins) counts of the 2T cliques of each pixel at
-        ``padded``, valued ``x`` now and ``y`` if it changes (int32, (pixels, 2T))."""
-        nb = self.pad[padded[:, None] + self._reach]
-        bo = self._sign * (nb - x[:, None]) + self._base
-        bn = self._sign * (nb - y[:, None]) + self._base
-        return bo, bn
-
-    def _count_change(self, bn, bo, part, first) -> np.ndarray:
-        """Change of the term counts (T, bins) when the pixels of the ``first`` rows of the
-        bins ``bn``, ``bo`` (and the takes-part mask ``part``) change."""
-        t = len(self.terms)
-        if not t:
+    def _count_change(self, nb, x, y) -> np.ndarray:
+        """Change of the term counts (T, bins) when the pixels valued ``x``, whose neighbours
+        are ``nb`` (the first rows of it), take the values ``y``."""
+        if nb is None:
             return np.zeros((0, self.bins))
-        bn, bo = bn[:first], bo[:first]
-        if part is not None:
-            keep = part[:first]
-            bn, bo = bn[keep], bo[keep]
-        size = t * self.bins
-        return (np.bincount(bn.ravel(), minlength=size)
-                - np.bincount(bo.ravel(), minlength=size)).reshape(t, self.bins)
+        nb = nb[:x.size]
+        size = len(self._term) * self.classes * self.bins
+        return self._fold(np.bincount((nb - y[:, None]).ravel(), minlength=size)
+                          - np.bincount((nb - x[:, None]).ravel(), minlength=size))
 
     def _change(self, d_counts, d_singleton) -> float:
         """Exact change of E for the given changes of the counts."""
