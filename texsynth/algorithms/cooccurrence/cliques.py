@@ -182,16 +182,20 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
     if len(offsets) == 0:
         return [np.flatnonzero(free)]
     k, a, b = _lattice(offsets, shape)
-    y, x = np.mgrid[0:h, 0:w]
-    colour = (a * y + b * x) % k
+    colour = (a * np.arange(h)[:, None] + b * np.arange(w)) % k
     colour[~free] = -1
     # where the lattice does not close around the torus, a pixel may meet its own colour
-    # across the wrap: of each such pair the pixel with the larger index is recoloured greedily
-    index = np.arange(h * w).reshape(shape)
+    # across the wrap (only pixels within reach of the border can): of each such pair the pixel
+    # with the larger index is recoloured greedily
+    m = int(np.abs(offsets).max())
+    frame = np.ones(shape, bool)
+    frame[m:h - m, m:w - m] = False
+    fy, fx = np.nonzero(frame)
     clash = []
     for dy, dx in offsets:
-        same = (colour == np.roll(colour, (-dy, -dx), axis=(0, 1))) & (colour >= 0)
-        clash.append(np.maximum(index[same], np.roll(index, (-dy, -dx), axis=(0, 1))[same]))
+        ty, tx = (fy + dy) % h, (fx + dx) % w
+        same = (colour[fy, fx] == colour[ty, tx]) & (colour[fy, fx] >= 0)
+        clash.append(np.maximum(fy[same] * w + fx[same], ty[same] * w + tx[same]))
     clash = np.unique(np.concatenate(clash))
     if clash.size:
         both = np.concatenate([offsets, -offsets])
@@ -205,7 +209,7 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
             while c in used:
                 c += 1
             flat[p] = c
-    flat = colour.ravel()
+    flat = colour.ravel().astype(np.int16)  # a stable sort of 16-bit integers is a radix sort
     order = np.argsort(flat, kind="stable")
     counts = np.bincount(flat[order] + 1)
     bounds = np.cumsum(counts)
@@ -264,14 +268,13 @@ class Relaxation:
         offsets = np.array([term.offset for term in self.terms], np.int64).reshape(t, 2)
         m = max(1, int(np.abs(offsets).max(initial=0)))
         self.m, self.wp = m, w + 2 * m
-        pad_y, pad_x = np.mgrid[0:h + 2 * m, 0:w + 2 * m]
-        src = ((pad_y - m) % h) * w + (pad_x - m) % w
-        ghost = (pad_y < m) | (pad_y >= h + m) | (pad_x < m) | (pad_x >= w + m)
-        self._ghost_dst = np.flatnonzero(ghost)
-        core = src.ravel()[self._ghost_dst]
-        self._ghost_src = (core // w + m) * self.wp + core % w + m
+        ghost = np.ones((h + 2 * m, self.wp), bool)
+        ghost[m:m + h, m:m + w] = False
+        gy, gx = np.nonzero(ghost)
+        self._ghost_dst = gy * self.wp + gx
+        self._ghost_src = ((gy - m) % h + m) * self.wp + (gx - m) % w + m
         self.classes = int(labels.max(initial=0)) + 1
-        self.pad = (labels * self.bins + u).ravel()[src.ravel()]  # int64 codes
+        self.pad = np.pad(labels * self.bins + u, m, mode="wrap").ravel()  # int64 codes
         self._shift = int(free_class) * self.bins  # the code of a free pixel is mark + shift
 
         # the columns: (term, end) with the pixel's own end in the free class
