@@ -303,12 +303,7 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                                             lo[k] + g * width, g)
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
                                out_labels, n, co.STEP)
-            for s in range(sweeps):
-                message = f"component {k + 1}, class {n}: sweep {s + 1}/{sweeps}"
-                part(0.4 + 0.6 * s / sweeps, message)
-                relax.sweep(rng, lambda done, sets, s=s, message=message, part=part: part(
-                    0.4 + 0.6 * (s + done / sets) / sweeps, message))
-                part(0.4 + 0.6 * (s + 1) / sweeps, message)
+            relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
             synth = relax.image
         dither = rng.random(synth.shape, dtype=np.float32)
         out[:, :, k] = lo[k] + (synth + dither) * np.float32(width)

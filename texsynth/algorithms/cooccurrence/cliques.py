@@ -48,10 +48,14 @@ __all__ = [
     "PairIndex",
     "Term",
     "Relaxation",
+    "CONVERGED",
 ]
 
 #: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
 BLOCK = 1 << 16
+
+#: A relaxation has converged when a sweep changes fewer than this share of its free pixels.
+CONVERGED = 1e-4
 
 #: Optimal Golomb rulers: marks whose pairwise differences are all distinct (index = count).
 GOLOMB = (
@@ -369,6 +373,26 @@ class Relaxation:
         tables[0][rows, self._other] = enter
         tables[1][rows, self._other] = leave
         return tables[0].ravel(), tables[1].ravel()
+
+    def run(self, sweeps: int, rng, progress=None, prefix: str = "") -> int:
+        """Up to ``sweeps`` sweeps, ending after the first that changes fewer than
+        ``CONVERGED`` of the free pixels (deviation: the paper's reference [13] runs a fixed
+        number); ``progress(fraction, message)`` after every set. Returns the sweeps done."""
+        if sweeps < 1:
+            return 0
+        for i in range(sweeps):
+            message = f"{prefix}sweep {i + 1}/{sweeps}"
+            if progress is not None:
+                progress(i / sweeps, message)
+            tick = None if progress is None else (
+                lambda done, sets, i=i, message=message: progress((i + done / sets) / sweeps,
+                                                                  message))
+            changed = self.sweep(rng, tick)
+            if changed < CONVERGED:
+                break
+        if progress is not None:
+            progress(1.0, message)
+        return i + 1
 
     def _propose(self, x, rng):
         n = len(self.levels)

@@ -401,11 +401,7 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
         start = rng.choice(channel.levels, size=shape, p=p / p.sum())
     relax = Relaxation(start, channel.levels, p, channel.terms(),
                        step=0 if channel.categorical else STEP)
-    for i in range(sweeps):
-        progress(i / sweeps, f"sweep {i + 1}/{sweeps}")
-        relax.sweep(rng, lambda done, sets, i=i: progress((i + done / sets) / sweeps,
-                                                          f"sweep {i + 1}/{sweeps}"))
-        progress((i + 1) / sweeps, f"sweep {i + 1}/{sweeps}")
+    relax.run(sweeps, rng, progress)
     return relax.image
 
 
