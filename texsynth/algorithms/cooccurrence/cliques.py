@@ -35,7 +35,10 @@ procedure to its reference [13]; this sampler is ours.)
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -53,6 +56,9 @@ __all__ = [
 
 #: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
 BLOCK = 1 << 16
+
+#: Most threads a sweep uses (its blocks are independent; the result is the same for any number).
+THREADS = 4
 
 #: A relaxation has converged when a sweep changes fewer than this share of its free pixels.
 CONVERGED = 1e-4
@@ -218,6 +224,12 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
     counts = np.bincount(flat[order] + 1)
     bounds = np.cumsum(counts)
     return [s for s in np.split(order, bounds[:-1])[1:] if s.size]
+
+
+@lru_cache(maxsize=1)
+def _pool() -> ThreadPoolExecutor:
+    """Worker threads for the sweeps' blocks (as many as cores, at most ``THREADS``)."""
+    return ThreadPoolExecutor(max_workers=max(1, min(THREADS, os.cpu_count() or 1)))
 
 
 @dataclass(frozen=True)
@@ -435,14 +447,21 @@ class Relaxation:
             lx, ly = self.level_of[x], self.level_of[y]
             de = g_s[ly] - g_s[lx] + 2.0 / self.n_free ** 2  # the columns' 1/N^2 are in the tables
             if c:
-                # in blocks of rows: the (rows, columns) temporaries stay in cache
-                step = max(1024, BLOCK // c)
-                for a in range(0, x.size, step):
-                    b = slice(a, a + step)
+                # in blocks of rows (the (rows, columns) temporaries stay in cache), on threads:
+                # numpy releases the GIL in gathers and sums, and each block writes its own rows
+                # of de, so the result does not depend on the number of threads
+                def block(b, padded=padded, x=x, y=y, de=de, enter=enter, leave=leave):
                     nb = self._neighbours(padded[b])
                     delta = enter[nb - y[b, None]]
                     delta += leave[nb - x[b, None]]
                     de[b] += delta.sum(axis=1)
+
+                step = max(1024, BLOCK // c)
+                blocks = [slice(a, a + step) for a in range(0, x.size, step)]
+                if len(blocks) > 1:
+                    list(_pool().map(block, blocks))
+                elif blocks:
+                    block(blocks[0])
             accept = np.flatnonzero(de < 0)
             nb = self._neighbours(padded[accept]) if c else None
             # backtracking: the improving pixels' changes add up exactly in the histograms, so
