@@ -250,7 +250,8 @@ class Relaxation:
     ``terms``: the clique terms. ``labels`` (H, W) and ``free_class``: only pixels of that
     class change (all pixels without labels); the others stay as they are. ``step``: half-width
     of the local proposals in levels (0: proposals from the singleton target only, as for
-    labels, whose levels have no order).
+    labels, whose levels have no order). ``tick()``, when given, is called while the
+    histograms are counted (where a caller may cancel).
 
     A free pixel p is the head of the cliques (p, p + d) and the tail of (p - d, p): each
     (term, end) whose own end is in the free class is a column. The image is kept as codes
@@ -261,7 +262,8 @@ class Relaxation:
     work of a set is then a gather, two table look-ups and a sum, whatever the labels.
     """
 
-    def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3):
+    def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3,
+                 tick=None):
         self.levels = np.asarray(levels, np.int32)
         self.span = int(self.levels.max())
         self.bins = 2 * self.span + 1
@@ -326,6 +328,8 @@ class Relaxation:
             step = max(1024, BLOCK // int(counting.sum()))
             raw = np.zeros(len(cols) * self.classes * self.bins, np.int64)
             for a in range(0, x.size, step):
+                if tick is not None and a:
+                    tick()
                 b = slice(a, a + step)
                 raw += np.bincount((self._neighbours(padded[b], counting)
                                     - x[b, None]).ravel(), minlength=raw.size)

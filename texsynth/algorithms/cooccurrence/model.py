@@ -400,7 +400,8 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
     if start is None:
         start = rng.choice(channel.levels, size=shape, p=p / p.sum())
     relax = Relaxation(start, channel.levels, p, channel.terms(),
-                       step=0 if channel.categorical else STEP)
+                       step=0 if channel.categorical else STEP,
+                       tick=lambda: progress(0.0, "counting the clique histograms"))
     relax.run(sweeps, rng, progress)
     return relax.image
 
