@@ -212,12 +212,7 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     shape = (-(-height // f), -(-width // f))
     marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
     out = model.channels[0].decode(marks, rng)
-    if f == 1:
-        return out
-    # upsampled, the class boundaries lie on the midpoints of the coarse grid, and the wrap
-    # always on one of them: the map changed class across the wrap ~f times as often as between
-    # two rows inside. A random roll by 0..f-1 pixels puts the wrap at any phase of the grid.
-    return np.roll(_upscale(out, height, width, classes), tuple(rng.integers(0, f, 2)), (0, 1))
+    return _upscale(out, height, width, classes) if f > 1 else out
 
 
 # --- the subtextures --------------------------------------------------------------------------
