@@ -61,6 +61,19 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                       progress=progress.span(0.3, 1.0), start=start)
 
 
+def _cost(shape, width, height, params):
+    """The model's cost (fit and synthesis, ``model.cost``) at every level of the
+    multiresolution relaxation: ``REFINE_SWEEPS`` above ``COARSE_PIXELS``, ``sweeps`` at the
+    coarsest level."""
+    total = 0.0
+    while width * height > COARSE_PIXELS and min(shape[:2]) >= 32:
+        total += model_cost(shape, width, height,
+                            {**params, "sweeps": min(params["sweeps"], REFINE_SWEEPS)})
+        shape = (shape[0] // 2, shape[1] // 2, shape[2])
+        width, height = -(-width // 2), -(-height // 2)
+    return total + model_cost(shape, width, height, params)
+
+
 def _memory(shape, width, height, params):
     """Synthesis: padded image, per-set (pixels x 2T) gathers, a colouring and the float output.
     Selection: every candidate type's pairs on the selection torus (3 arrays of 8 bytes)."""
@@ -80,5 +93,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=8,
     memory=_memory,
-    cost=model_cost,
+    cost=_cost,
 ))

@@ -33,7 +33,9 @@ Deviations, one line each:
   sweeps instead of restarting from noise;
 - selection synthesizes on a torus of at most ``selection_size`` pixels a side; the exemplar's
   histograms use only pairs inside the photograph (no wrap-around pairs);
-- histograms are stored as float16 (the file is the model; reloading gives the same numbers).
+- histograms are stored as float16 (the file is the model; reloading gives the same numbers);
+- ``sweeps`` is a most: synthesis ends after a sweep that changes fewer than
+  ``cliques.CONVERGED`` of the pixels (a label map converges in about 12 of 30, measured).
 """
 
 from __future__ import annotations
