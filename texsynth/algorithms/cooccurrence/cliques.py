@@ -57,6 +57,9 @@ __all__ = [
 #: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
 BLOCK = 1 << 16
 
+#: Most pixels of a set visited at once (between two progress reports).
+CHUNK = 1 << 18
+
 #: Most threads a sweep uses (its blocks are independent; the result is the same for any number).
 THREADS = 4
 
@@ -421,10 +424,11 @@ class Relaxation:
 
     def sweep(self, rng, tick=None) -> float:
         """Visit every free pixel once, set by set in random order, the colouring shifted by a
-        random translation; returns the fraction of changed pixels. ``tick(done, sets)``, when
-        given, is called after every set (where a caller may cancel)."""
+        random translation; returns the fraction of changed pixels. A set is visited in chunks
+        of at most ``CHUNK`` pixels (its pixels share no clique, so a chunk's changes are exact
+        whatever the others do). ``tick(done, sets)``, when given, is called after every chunk
+        (where a caller may cancel)."""
         changed = total = 0
-        c = len(self._term)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
@@ -437,59 +441,67 @@ class Relaxation:
             if self._free is not None:
                 keep = self._free[rows * w + cols]
                 rows, cols = rows[keep], cols[keep]
-                if not rows.size:
-                    continue
             padded = (rows + m) * wp + cols + m
-            enter, leave = self._tables() if c else (None, None)
-            g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
-            x = self.pad[padded] - self._shift
-            y = self._propose(x, rng)
-            total += x.size
-            # a proposal of the value the pixel has changes nothing: only the others are looked at
-            moves = np.flatnonzero(x != y)
-            padded, x, y = padded[moves], x[moves], y[moves]
-            lx, ly = self.level_of[x], self.level_of[y]
-            de = g_s[ly] - g_s[lx] + 2.0 / self.n_free ** 2  # the columns' 1/N^2 are in the tables
-            if c:
-                # in blocks of rows (the (rows, columns) temporaries stay in cache), on threads:
-                # numpy releases the GIL in gathers and sums, and each block writes its own rows
-                # of de, so the result does not depend on the number of threads
-                def block(b, padded=padded, x=x, y=y, de=de, enter=enter, leave=leave):
-                    nb = self._neighbours(padded[b])
-                    delta = enter[nb - y[b, None]]
-                    delta += leave[nb - x[b, None]]
-                    de[b] += delta.sum(axis=1)
-
-                step = max(1024, BLOCK // c)
-                blocks = [slice(a, a + step) for a in range(0, x.size, step)]
-                if len(blocks) > 1:
-                    list(_pool().map(block, blocks))
-                elif blocks:
-                    block(blocks[0])
-            accept = np.flatnonzero(de < 0)
-            nb = self._neighbours(padded[accept]) if c else None
-            # backtracking: the improving pixels' changes add up exactly in the histograms, so
-            # the true change of E is known; while it is not a decrease (many pixels moving mass
-            # into the same bins overshoot), keep only the better half (ranked when first needed)
-            ranked = False
-            while accept.size:
-                d_s = (np.bincount(ly[accept], minlength=len(self.levels))
-                       - np.bincount(lx[accept], minlength=len(self.levels)))
-                d_c = self._count_change(nb, x[accept], y[accept])
-                if self._change(d_c, d_s) < 0:
-                    break
-                if not ranked:
-                    order = np.argsort(de[accept], kind="stable")
-                    accept, nb, ranked = accept[order], None if nb is None else nb[order], True
-                accept = accept[:accept.size // 2]
-            if not accept.size:
-                continue
-            changed += accept.size
-            self.pad[padded[accept]] = y[accept] + self._shift
-            self.pad[self._ghost_dst] = self.pad[self._ghost_src]
-            self.singleton_counts += d_s
-            self.counts += d_c
+            for a in range(0, padded.size, CHUNK):
+                if tick is not None and a:
+                    tick(done + a / padded.size, len(self.sets))
+                seen, moved = self._visit(padded[a:a + CHUNK], rng)
+                total, changed = total + seen, changed + moved
         return changed / max(total, 1)
+
+    def _visit(self, padded, rng) -> tuple[int, int]:
+        """Propose new values to the pixels at ``padded`` (no two share a clique) and apply the
+        improving ones; returns (pixels visited, pixels changed)."""
+        c = len(self._term)
+        enter, leave = self._tables() if c else (None, None)
+        g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
+        x = self.pad[padded] - self._shift
+        y = self._propose(x, rng)
+        total = x.size
+        # a proposal of the value the pixel has changes nothing: only the others are looked at
+        moves = np.flatnonzero(x != y)
+        padded, x, y = padded[moves], x[moves], y[moves]
+        lx, ly = self.level_of[x], self.level_of[y]
+        de = g_s[ly] - g_s[lx] + 2.0 / self.n_free ** 2  # the columns' 1/N^2 are in the tables
+        if c:
+            # in blocks of rows (the (rows, columns) temporaries stay in cache), on threads:
+            # numpy releases the GIL in gathers and sums, and each block writes its own rows
+            # of de, so the result does not depend on the number of threads
+            def block(b, padded=padded, x=x, y=y, de=de, enter=enter, leave=leave):
+                nb = self._neighbours(padded[b])
+                delta = enter[nb - y[b, None]]
+                delta += leave[nb - x[b, None]]
+                de[b] += delta.sum(axis=1)
+
+            step = max(1024, BLOCK // c)
+            blocks = [slice(a, a + step) for a in range(0, x.size, step)]
+            if len(blocks) > 1:
+                list(_pool().map(block, blocks))
+            elif blocks:
+                block(blocks[0])
+        accept = np.flatnonzero(de < 0)
+        nb = self._neighbours(padded[accept]) if c else None
+        # backtracking: the improving pixels' changes add up exactly in the histograms, so
+        # the true change of E is known; while it is not a decrease (many pixels moving mass
+        # into the same bins overshoot), keep only the better half (ranked when first needed)
+        ranked = False
+        while accept.size:
+            d_s = (np.bincount(ly[accept], minlength=len(self.levels))
+                   - np.bincount(lx[accept], minlength=len(self.levels)))
+            d_c = self._count_change(nb, x[accept], y[accept])
+            if self._change(d_c, d_s) < 0:
+                break
+            if not ranked:
+                order = np.argsort(de[accept], kind="stable")
+                accept, nb, ranked = accept[order], None if nb is None else nb[order], True
+            accept = accept[:accept.size // 2]
+        if not accept.size:
+            return total, 0
+        self.pad[padded[accept]] = y[accept] + self._shift
+        self.pad[self._ghost_dst] = self.pad[self._ghost_src]
+        self.singleton_counts += d_s
+        self.counts += d_c
+        return total, accept.size
 
     def _count_change(self, nb, x, y) -> np.ndarray:
         """Change of the term counts (T, bins) when the pixels valued ``x``, whose neighbours
