@@ -52,6 +52,7 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
                               progress.span(0.0, 0.4), sweeps=sweeps, **params)
+        progress.span(0.4, 0.4)(0.0, "upsampling the half-size synthesis")
         start = zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
                      prefilter=False)[:height, :width]
         sweeps = min(sweeps, REFINE_SWEEPS)

@@ -435,6 +435,7 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
     pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
     initial = None if start is None else pca.forward(np.asarray(start, np.float32))
     for k, channel in enumerate(model.channels):
+        report(k / c, "preparing the start" if initial is not None else "drawing the start")
         marks = None
         if initial is not None:
             g = len(channel.levels)
