@@ -21,14 +21,16 @@ singleton histogram of the free pixels towards their targets by minimising
 sampler of Zhu, Liu & Wu (2000) at zero temperature with random proposals. The pixels are split
 into sets with no selected clique inside a set (a lattice colouring of the torus,
 :func:`colour_sets`, shifted by a random torus translation each sweep, visited in random
-order); all pixels of a set are proposed a new value at once (half drawn from the
+order, in chunks of at most ``CHUNK`` pixels); all pixels of a chunk are proposed a new
+value at once (half drawn from the
 singleton target, half a step of up to ``step`` levels), each one's exact single-pixel change of
 E is computed from the current histograms in one vectorised pass, and the improving proposals
 are applied together. No two pixels of a set share a clique, so their histogram changes add up
 exactly and the set's true change of E is known before it is applied; when many pixels move
 mass into the same bins and overshoot (E would rise), only the better half of them is kept,
 and so on. E therefore never increases; it is bounded below, so it converges (measured in
-docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60).
+docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60); :meth:`Relaxation.run`
+ends after a sweep that changes fewer than ``CONVERGED`` of the pixels.
 The grid is a torus, so every synthesized image tiles. (Zalesny et al. 2002 defers its synthesis
 procedure to its reference [13]; this sampler is ours.)
 """
