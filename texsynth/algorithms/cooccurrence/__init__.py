@@ -16,6 +16,7 @@ sweeps restore the fine-scale statistics.
 
 from __future__ import annotations
 
+import numpy as np
 from scipy.ndimage import zoom
 
 from ...registry import Method, register
@@ -52,9 +53,11 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
                               progress.span(0.0, 0.4), sweeps=sweeps, **params)
-        progress.span(0.4, 0.4)(0.0, "upsampling the half-size synthesis")
-        start = zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
-                     prefilter=False)[:height, :width]
+        start = np.empty((height, width, coarse.shape[2]), np.float32)
+        for c in range(coarse.shape[2]):  # channel by channel, reporting between them
+            progress.span(0.4, 0.4)(0.0, "upsampling the half-size synthesis")
+            start[:, :, c] = zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
+                                  grid_mode=True, prefilter=False)[:height, :width]
         sweeps = min(sweeps, REFINE_SWEEPS)
         progress = progress.span(0.4, 1.0)
     model = fit(exemplar, seed=rng, progress=progress.span(0.0, 0.3), **params)

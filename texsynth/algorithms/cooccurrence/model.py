@@ -317,6 +317,8 @@ def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                 selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
                 categorical: bool = False, progress: Progress | None = None) -> ChannelModel:
     """The clique model of one channel of marks (H, W) taking values in ``levels``."""
+    progress = progress or Progress()
+    progress(0.0, "exemplar statistics")
     span = int(levels.max())
     max_offset = min(max_offset, max(1, min(marks.shape) // 2 - 1))
     offsets = half_offsets(max_offset)
