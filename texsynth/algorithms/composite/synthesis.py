@@ -336,8 +336,11 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
                                           report.span(0.0, 0.4), interaction_distance,
                                           max_offset, threshold, max_cliques, levels, sweeps,
                                           selection_size)
-            start = ndimage.zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
-                                 prefilter=False)
+            start = np.empty((height, width, coarse.shape[2]), np.float32)
+            for c in range(coarse.shape[2]):  # channel by channel, reporting between them
+                report(0.4, "upsampling the half-size fill")
+                start[:, :, c] = ndimage.zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
+                                              grid_mode=True, prefilter=False)
             sweeps = min(sweeps, REFINE_SWEEPS)
             report = report.span(0.4, 1.0)
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
