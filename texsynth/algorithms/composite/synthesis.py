@@ -74,6 +74,8 @@ INTERACTION_DISTANCE = 2
 MIN_SQUARE = 24
 #: Fewest cliques a candidate type needs in the exemplar to be modelled.
 MIN_PAIRS = 16
+#: Candidate types counted between two progress reports.
+CANDIDATE_GROUP = 32
 #: Smallest exemplar side: segmentation and a label texture need room.
 MIN_EXEMPLAR = 16
 
@@ -236,17 +238,23 @@ def _neighbours(labels: np.ndarray, n: int, distance: int) -> list[int]:
 
 
 def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int], span: int,
-                max_offset: int, distance: int) -> tuple[list[Term], np.ndarray]:
+                max_offset: int, distance: int, tick=None) -> tuple[list[Term], np.ndarray]:
     """Step 1 for class n: its own clique types and its interaction types, with the exemplar's
     normalised histograms and clique counts; types with fewer than ``MIN_PAIRS`` cliques are
-    left out."""
+    left out. ``tick()``, when given, is called between groups of types."""
     own = half_offsets(max_offset)
     near = half_offsets(distance) if distance >= 1 else np.zeros((0, 2), np.int32)
     spec = [(d, n, n) for d in own]
     for m in others:
         spec += [(d, n, m) for d in near] + [(d, m, n) for d in near]
-    counts = difference_histograms(seen, [s[0] for s in spec], span, False, labels,
-                                   [(s[1], s[2]) for s in spec])
+    counts = []
+    for a in range(0, len(spec), CANDIDATE_GROUP):
+        if tick is not None and a:
+            tick()
+        group = spec[a:a + CANDIDATE_GROUP]
+        counts.append(difference_histograms(seen, [s[0] for s in group], span, False, labels,
+                                            [(s[1], s[2]) for s in group]))
+    counts = np.concatenate(counts)
     total = counts.sum(axis=1)
     keep = total >= MIN_PAIRS
     terms = [Term((int(d[0]), int(d[1])), (c / t).astype(np.float32), a, b)
@@ -285,7 +293,8 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
             singleton /= singleton.sum()
             others = _neighbours(labels, n, interaction_distance)
             candidates, counts = _candidates(seen, labels, n, others, g - 1, max_offset,
-                                             interaction_distance)
+                                             interaction_distance,
+                                             lambda part=part: part(0.0, "exemplar statistics"))
             # steps 2-7 in place, on the window of the exemplar where class n is most frequent
             wy, wx = _window(own, selection_size)
             start = seen[wy, wx].copy()
@@ -302,13 +311,9 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                 synth[region] = co.quantize(initial[:, :, k][region], lo[k],
                                             lo[k] + g * width, g)
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
-                               out_labels, n, co.STEP)
-            for s in range(sweeps):
-                message = f"component {k + 1}, class {n}: sweep {s + 1}/{sweeps}"
-                part(0.4 + 0.6 * s / sweeps, message)
-                relax.sweep(rng, lambda done, sets, s=s, message=message, part=part: part(
-                    0.4 + 0.6 * (s + done / sets) / sweeps, message))
-                part(0.4 + 0.6 * (s + 1) / sweeps, message)
+                               out_labels, n, co.STEP,
+                               lambda part=part: part(0.4, "counting cliques"))
+            relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
             synth = relax.image
         dither = rng.random(synth.shape, dtype=np.float32)
         out[:, :, k] = lo[k] + (synth + dither) * np.float32(width)
@@ -331,8 +336,11 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
                                           report.span(0.0, 0.4), interaction_distance,
                                           max_offset, threshold, max_cliques, levels, sweeps,
                                           selection_size)
-            start = ndimage.zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
-                                 prefilter=False)
+            start = np.empty((height, width, coarse.shape[2]), np.float32)
+            for c in range(coarse.shape[2]):  # channel by channel, reporting between them
+                report(0.4, "upsampling the half-size fill")
+                start[:, :, c] = ndimage.zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
+                                              grid_mode=True, prefilter=False)
             sweeps = min(sweeps, REFINE_SWEEPS)
             report = report.span(0.4, 1.0)
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
@@ -439,6 +447,7 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     if labels is None:
         report(0.0, "segmenting the exemplar")
         lab = segment(x, contrast=contrast, texture=texture_features, seed=rng)
+        report(0.02, "modelling the label texture")
     else:
         lab = _as_labels(labels, (h, w), "label image")
     classes = int(lab.max()) + 1
@@ -485,5 +494,6 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
 
 def cost(shape, width, height, params):
     """Segmentation, then a clique model per class (each over its share of the output, with
-    interactions) and the label texture: measured about 3 single clique models."""
-    return 0.5 + 3.0 * co.cost(shape, width, height, params)
+    interactions) and the label texture: measured 2.3 single clique models (CPU time,
+    1024 -> 2048, gravel_pebbles), both relaxed from a half-size start above COARSE_PIXELS."""
+    return 0.5 + 2.5 * CLIQUE_MODEL.cost(shape, width, height, params)

@@ -16,6 +16,7 @@ sweeps restore the fine-scale statistics.
 
 from __future__ import annotations
 
+import numpy as np
 from scipy.ndimage import zoom
 
 from ...registry import Method, register
@@ -52,13 +53,29 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
                               progress.span(0.0, 0.4), sweeps=sweeps, **params)
-        start = zoom(coarse, (2, 2, 1), order=1, mode="grid-wrap", grid_mode=True,
-                     prefilter=False)[:height, :width]
+        start = np.empty((height, width, coarse.shape[2]), np.float32)
+        for c in range(coarse.shape[2]):  # channel by channel, reporting between them
+            progress.span(0.4, 0.4)(0.0, "upsampling the half-size synthesis")
+            start[:, :, c] = zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
+                                  grid_mode=True, prefilter=False)[:height, :width]
         sweeps = min(sweeps, REFINE_SWEEPS)
         progress = progress.span(0.4, 1.0)
     model = fit(exemplar, seed=rng, progress=progress.span(0.0, 0.3), **params)
     return synthesize(model, width, height, seed=rng, sweeps=sweeps,
                       progress=progress.span(0.3, 1.0), start=start)
+
+
+def _cost(shape, width, height, params):
+    """The model's cost (fit and synthesis, ``model.cost``) at every level of the
+    multiresolution relaxation: ``REFINE_SWEEPS`` above ``COARSE_PIXELS``, ``sweeps`` at the
+    coarsest level."""
+    total = 0.0
+    while width * height > COARSE_PIXELS and min(shape[:2]) >= 32:
+        total += model_cost(shape, width, height,
+                            {**params, "sweeps": min(params["sweeps"], REFINE_SWEEPS)})
+        shape = (shape[0] // 2, shape[1] // 2, shape[2])
+        width, height = -(-width // 2), -(-height // 2)
+    return total + model_cost(shape, width, height, params)
 
 
 def _memory(shape, width, height, params):
@@ -80,5 +97,5 @@ METHOD = register(Method(
     params=PARAMS,
     min_exemplar=8,
     memory=_memory,
-    cost=model_cost,
+    cost=_cost,
 ))

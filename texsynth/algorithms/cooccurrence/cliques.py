@@ -21,21 +21,26 @@ singleton histogram of the free pixels towards their targets by minimising
 sampler of Zhu, Liu & Wu (2000) at zero temperature with random proposals. The pixels are split
 into sets with no selected clique inside a set (a lattice colouring of the torus,
 :func:`colour_sets`, shifted by a random torus translation each sweep, visited in random
-order); all pixels of a set are proposed a new value at once (half drawn from the
+order, in chunks of at most ``CHUNK`` pixels); all pixels of a chunk are proposed a new
+value at once (half drawn from the
 singleton target, half a step of up to ``step`` levels), each one's exact single-pixel change of
 E is computed from the current histograms in one vectorised pass, and the improving proposals
 are applied together. No two pixels of a set share a clique, so their histogram changes add up
 exactly and the set's true change of E is known before it is applied; when many pixels move
 mass into the same bins and overshoot (E would rise), only the better half of them is kept,
 and so on. E therefore never increases; it is bounded below, so it converges (measured in
-docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60).
+docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60); :meth:`Relaxation.run`
+ends after a sweep that changes fewer than ``CONVERGED`` of the pixels.
 The grid is a torus, so every synthesized image tiles. (Zalesny et al. 2002 defers its synthesis
 procedure to its reference [13]; this sampler is ours.)
 """
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -48,10 +53,20 @@ __all__ = [
     "PairIndex",
     "Term",
     "Relaxation",
+    "CONVERGED",
 ]
 
 #: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
 BLOCK = 1 << 16
+
+#: Most pixels of a set visited at once (between two progress reports).
+CHUNK = 1 << 18
+
+#: Most threads a sweep uses (its blocks are independent; the result is the same for any number).
+THREADS = 4
+
+#: A relaxation has converged when a sweep changes fewer than this share of its free pixels.
+CONVERGED = 1e-4
 
 #: Optimal Golomb rulers: marks whose pairwise differences are all distinct (index = count).
 GOLOMB = (
@@ -182,16 +197,20 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
     if len(offsets) == 0:
         return [np.flatnonzero(free)]
     k, a, b = _lattice(offsets, shape)
-    y, x = np.mgrid[0:h, 0:w]
-    colour = (a * y + b * x) % k
+    colour = (a * np.arange(h)[:, None] + b * np.arange(w)) % k
     colour[~free] = -1
     # where the lattice does not close around the torus, a pixel may meet its own colour
-    # across the wrap: of each such pair the pixel with the larger index is recoloured greedily
-    index = np.arange(h * w).reshape(shape)
+    # across the wrap (only pixels within reach of the border can): of each such pair the pixel
+    # with the larger index is recoloured greedily
+    m = int(np.abs(offsets).max())
+    frame = np.ones(shape, bool)
+    frame[m:h - m, m:w - m] = False
+    fy, fx = np.nonzero(frame)
     clash = []
     for dy, dx in offsets:
-        same = (colour == np.roll(colour, (-dy, -dx), axis=(0, 1))) & (colour >= 0)
-        clash.append(np.maximum(index[same], np.roll(index, (-dy, -dx), axis=(0, 1))[same]))
+        ty, tx = (fy + dy) % h, (fx + dx) % w
+        same = (colour[fy, fx] == colour[ty, tx]) & (colour[fy, fx] >= 0)
+        clash.append(np.maximum(fy[same] * w + fx[same], ty[same] * w + tx[same]))
     clash = np.unique(np.concatenate(clash))
     if clash.size:
         both = np.concatenate([offsets, -offsets])
@@ -205,11 +224,17 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
             while c in used:
                 c += 1
             flat[p] = c
-    flat = colour.ravel()
+    flat = colour.ravel().astype(np.int16)  # a stable sort of 16-bit integers is a radix sort
     order = np.argsort(flat, kind="stable")
     counts = np.bincount(flat[order] + 1)
     bounds = np.cumsum(counts)
     return [s for s in np.split(order, bounds[:-1])[1:] if s.size]
+
+
+@lru_cache(maxsize=1)
+def _pool() -> ThreadPoolExecutor:
+    """Worker threads for the sweeps' blocks (as many as cores, at most ``THREADS``)."""
+    return ThreadPoolExecutor(max_workers=max(1, min(THREADS, os.cpu_count() or 1)))
 
 
 @dataclass(frozen=True)
@@ -230,14 +255,20 @@ class Relaxation:
     ``terms``: the clique terms. ``labels`` (H, W) and ``free_class``: only pixels of that
     class change (all pixels without labels); the others stay as they are. ``step``: half-width
     of the local proposals in levels (0: proposals from the singleton target only, as for
-    labels, whose levels have no order).
+    labels, whose levels have no order). ``tick()``, when given, is called while the
+    histograms are counted (where a caller may cancel).
 
-    Every term is looked at from both ends: a free pixel p is the head of the clique
-    (p, p + d) and the tail of (p - d, p). The 2T (term, end) pairs of a set are evaluated in one
-    (pixels, 2T) gather, so a set costs a handful of numpy calls whatever T is.
+    A free pixel p is the head of the cliques (p, p + d) and the tail of (p - d, p): each
+    (term, end) whose own end is in the free class is a column. The image is kept as codes
+    ``label * bins + mark``, so one gather of p's neighbours gives, per column, both the
+    neighbour's class and the clique's difference bin; per set, a table per column holds the
+    change of E for a clique entering or leaving each bin, and zero where the neighbour is not
+    of the column's other class (the clique is not one of the term's). The (pixels, columns)
+    work of a set is then a gather, two table look-ups and a sum, whatever the labels.
     """
 
-    def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3):
+    def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3,
+                 tick=None):
         self.levels = np.asarray(levels, np.int32)
         self.span = int(self.levels.max())
         self.bins = 2 * self.span + 1
@@ -245,7 +276,8 @@ class Relaxation:
         self.step = int(step)
         u = np.asarray(u, np.int32)
         self.shape = h, w = u.shape
-        labels = np.zeros(self.shape, np.int32) if labels is None else np.asarray(labels)
+        labels = np.zeros(self.shape, np.int64) if labels is None else np.asarray(labels,
+                                                                                   np.int64)
         free = labels == free_class
         self.level_of = np.full(self.span + 1, -1, np.int32)
         self.level_of[self.levels] = np.arange(len(self.levels))
@@ -256,67 +288,66 @@ class Relaxation:
 
         # a toroidally padded flat copy: the neighbour of padded index P at offset d is P + d_flat
         t = len(self.terms)
-        offsets = np.array([term.offset for term in self.terms], np.int32).reshape(t, 2)
+        offsets = np.array([term.offset for term in self.terms], np.int64).reshape(t, 2)
         m = max(1, int(np.abs(offsets).max(initial=0)))
         self.m, self.wp = m, w + 2 * m
-        pad_y, pad_x = np.mgrid[0:h + 2 * m, 0:w + 2 * m]
-        src = ((pad_y - m) % h) * w + (pad_x - m) % w
-        ghost = (pad_y < m) | (pad_y >= h + m) | (pad_x < m) | (pad_x >= w + m)
-        self._ghost_dst = np.flatnonzero(ghost)
-        core = src.ravel()[self._ghost_dst]
-        self._ghost_src = (core // w + m) * self.wp + core % w + m
-        self.pad = u.ravel()[src.ravel()].astype(np.int32)  # flat, (h + 2m) x (w + 2m)
+        ghost = np.ones((h + 2 * m, self.wp), bool)
+        ghost[m:m + h, m:m + w] = False
+        gy, gx = np.nonzero(ghost)
+        self._ghost_dst = gy * self.wp + gx
+        self._ghost_src = ((gy - m) % h + m) * self.wp + (gx - m) % w + m
+        self.classes = int(labels.max(initial=0)) + 1
+        self.pad = np.pad(labels * self.bins + u, m, mode="wrap").ravel()  # int64 codes
+        self._shift = int(free_class) * self.bins  # the code of a free pixel is mark + shift
 
-        # the (term, end) columns: heads look at p + d, tails at p - d
-        d_flat = offsets[:, 0] * self.wp + offsets[:, 1]
-        self._reach = np.concatenate([d_flat, -d_flat])
-        self._sign = np.repeat(np.array([1, -1], np.int32), t)
-        self._base = np.tile(np.arange(t, dtype=np.int32) * self.bins, 2) + self.span
-        takes_part = []  # (H, W) per column: p is free and the clique's other end is in class
-        for end in (0, 1):
-            for term in self.terms:
-                mine, other = (term.head, term.tail) if end == 0 else (term.tail, term.head)
-                dy, dx = term.offset if end == 0 else (-term.offset[0], -term.offset[1])
-                takes_part.append((labels == mine) & (np.roll(labels, (-dy, -dx), (0, 1))
-                                                       == other))
-        intra = [term.offset for term in self.terms
-                 if term.head == free_class and term.tail == free_class]
+        # the columns: (term, end) with the pixel's own end in the free class
+        cols = [(i, end) for end in (0, 1) for i, term in enumerate(self.terms)
+                if (term.head, term.tail)[end] == free_class]
+        self._term = np.array([i for i, _ in cols], np.int64)
+        self._tail = np.array([end == 1 for _, end in cols], bool)
+        self._other = np.array([(self.terms[i].tail, self.terms[i].head)[end]
+                                for i, end in cols], np.int64)
+        sign = np.where(self._tail, -1, 1)
+        self._reach = sign * (offsets[self._term, 0] * self.wp + offsets[self._term, 1])
+        self._base = np.arange(len(cols), dtype=np.int64) * self.classes * self.bins + self.span
+        # each clique is counted once, from its end in the free class (its head when both are)
+        heads = np.array([self.terms[i].head for i, _ in cols], np.int64)
+        counting = ~self._tail | (heads != free_class)
+
         # the colouring of the whole torus, as (row, col) per set; each sweep shifts it by a
         # random translation (a fixed one leaves the pixels its wrap-around repair recoloured as
         # a band of small sets, which take up the histograms' slack more eagerly: a seam)
+        intra = [term.offset for term in self.terms
+                 if term.head == free_class and term.tail == free_class]
         self.sets = [(s // w, s % w) for s in colour_sets(self.shape, intra)]
         self._free = None if free.all() else free.ravel()
-        plain = t == 0 or all(tp.all() for tp in takes_part)
-        self._takes_part = None if plain else np.stack([tp.ravel() for tp in takes_part], 1)
-
-        core_u = self.image
-        # no term (white noise selects none): the singleton histogram alone drives the sweeps
-        self.counts = np.array([
-            difference_histograms(core_u, [term.offset], self.span, True, labels,
-                                  [(term.head, term.tail)])[0] for term in self.terms],
-            np.float64).reshape(t, self.bins)
-        self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
         self.targets = np.array([term.target for term in self.terms], np.float64).reshape(
             t, self.bins)
         self.singleton_target = np.asarray(singleton, np.float64) / np.sum(singleton)
-        # second-order part of the exact change: 1/N^2 for each of the two bins a clique leaves
-        # and enters, paid by every clique of a pixel that changes value (the pairs per term
-        # never change, so each pixel's sum over the cliques it takes part in is fixed)
-        second = np.tile(2.0 / self.pairs ** 2, 2)
-        self._second_all = second.sum()
-        self._second_part = None
-        if self._takes_part is not None:  # column by column: a float (pixels, 2T) copy is GBs
-            self._second_part = np.zeros(h * w)
-            for j, weight in enumerate(second):
-                self._second_part[self._takes_part[:, j]] += weight
         self.n_free = max(int(free.sum()), 1)
-        self.singleton_counts = np.bincount(self.level_of[core_u[free]],
+        self.counts = np.zeros((t, self.bins))
+        free_flat = np.flatnonzero(free)
+        padded = (free_flat // w + m) * self.wp + free_flat % w + m
+        x = self.pad[padded] - self._shift
+        if counting.any():
+            step = max(1024, BLOCK // int(counting.sum()))
+            raw = np.zeros(len(cols) * self.classes * self.bins, np.int64)
+            for a in range(0, x.size, step):
+                if tick is not None and a:
+                    tick()
+                b = slice(a, a + step)
+                raw += np.bincount((self._neighbours(padded[b], counting)
+                                    - x[b, None]).ravel(), minlength=raw.size)
+            self.counts = self._fold(raw)
+        self.pairs = np.maximum(self.counts.sum(axis=1), 1.0)
+        self.singleton_counts = np.bincount(self.level_of[x],
                                             minlength=len(self.levels)).astype(np.float64)
 
     @property
     def image(self) -> np.ndarray:
         m, (h, w) = self.m, self.shape
-        return self.pad.reshape(h + 2 * m, self.wp)[m:m + h, m:m + w].copy()
+        core = self.pad.reshape(h + 2 * m, self.wp)[m:m + h, m:m + w]
+        return (core % self.bins).astype(np.int32)
 
     def distances(self) -> np.ndarray:
         """Euclidean distance of each term's histogram to its target (the paper's step 4)."""
@@ -329,6 +360,61 @@ class Relaxation:
     def energy(self) -> float:
         return float((self.distances() ** 2).sum() + self.singleton_distance() ** 2)
 
+    def _neighbours(self, padded, columns=None) -> np.ndarray:
+        """Code of the other end of each column's clique, plus the column's table base:
+        int64 (pixels, columns); minus a pixel's mark it indexes the column tables."""
+        reach, base = self._reach, self._base
+        if columns is not None:
+            reach, base = reach[columns], base[columns]
+        return self.pad[padded[:, None] + reach] + base
+
+    def _fold(self, raw) -> np.ndarray:
+        """(T, bins) term counts from counts over the column tables' cells."""
+        cells = raw.reshape(len(self._term), self.classes, self.bins)
+        mine = cells[np.arange(len(self._term)), self._other]
+        # a tail column's cell k is the clique difference -(k - span): mirrored
+        mine[self._tail] = mine[self._tail, ::-1]
+        out = np.zeros((len(self.terms), self.bins))
+        np.add.at(out, self._term, mine)
+        return out
+
+    def _tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """Flat (columns, classes, bins) tables: the change of E when a clique enters (first)
+        or leaves (second, negated) a bin, to first order plus its half of the 1/N^2 each."""
+        n = self.pairs[:, None]
+        grad = 2.0 * (self.counts / n - self.targets) / n
+        second = 1.0 / n ** 2
+        enter = (grad + second)[self._term]
+        leave = (second - grad)[self._term]
+        for table in (enter, leave):
+            table[self._tail] = table[self._tail, ::-1]
+        shape = (len(self._term), self.classes, self.bins)
+        tables = np.zeros((2,) + shape, np.float32)
+        rows = np.arange(len(self._term))
+        tables[0][rows, self._other] = enter
+        tables[1][rows, self._other] = leave
+        return tables[0].ravel(), tables[1].ravel()
+
+    def run(self, sweeps: int, rng, progress=None, prefix: str = "") -> int:
+        """Up to ``sweeps`` sweeps, ending after the first that changes fewer than
+        ``CONVERGED`` of the free pixels (deviation: the paper's reference [13] runs a fixed
+        number); ``progress(fraction, message)`` after every set. Returns the sweeps done."""
+        if sweeps < 1:
+            return 0
+        for i in range(sweeps):
+            message = f"{prefix}sweep {i + 1}/{sweeps}"
+            if progress is not None:
+                progress(i / sweeps, message)
+            tick = None if progress is None else (
+                lambda done, sets, i=i, message=message: progress((i + done / sets) / sweeps,
+                                                                  message))
+            changed = self.sweep(rng, tick)
+            if changed < CONVERGED:
+                break
+        if progress is not None:
+            progress(1.0, message)
+        return i + 1
+
     def _propose(self, x, rng):
         n = len(self.levels)
         drawn = np.minimum(np.searchsorted(self._cdf, rng.random(x.size), side="right"), n - 1)
@@ -340,10 +426,11 @@ class Relaxation:
 
     def sweep(self, rng, tick=None) -> float:
         """Visit every free pixel once, set by set in random order, the colouring shifted by a
-        random translation; returns the fraction of changed pixels. ``tick(done, sets)``, when
-        given, is called after every set (where a caller may cancel)."""
+        random translation; returns the fraction of changed pixels. A set is visited in chunks
+        of at most ``CHUNK`` pixels (its pixels share no clique, so a chunk's changes are exact
+        whatever the others do). ``tick(done, sets)``, when given, is called after every chunk
+        (where a caller may cancel)."""
         changed = total = 0
-        t = len(self.terms)
         h, w = self.shape
         m, wp = self.m, self.wp
         sy, sx = rng.integers(0, h), rng.integers(0, w)
@@ -353,78 +440,80 @@ class Relaxation:
                 tick(done, len(self.sets))
             rows, cols = self.sets[k]
             rows, cols = (rows + sy) % h, (cols + sx) % w
-            flat = rows * w + cols
             if self._free is not None:
-                keep = self._free[flat]
-                rows, cols, flat = rows[keep], cols[keep], flat[keep]
-                if not flat.size:
-                    continue
+                keep = self._free[rows * w + cols]
+                rows, cols = rows[keep], cols[keep]
             padded = (rows + m) * wp + cols + m
-            part = self._takes_part  # (pixels, 2T): p takes part in the clique (or None: all do)
-            parts = self._second_all if part is None else self._second_part[flat]
-            grad = (2.0 * (self.counts / self.pairs[:, None] - self.targets)
-                    / self.pairs[:, None]).astype(np.float32).ravel()
-            g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
-            x = self.pad[padded]
-            y = self._propose(x, rng)
-            lx, ly = self.level_of[x], self.level_of[y]
-            de = g_s[ly] - g_s[lx] + (lx != ly) * (2.0 / self.n_free ** 2 + parts)
-            if t:
-                # in blocks of rows: the (rows, 2T) temporaries stay in cache
-                step = max(1024, BLOCK // (2 * t))
-                for a in range(0, x.size, step):
-                    b = slice(a, a + step)
-                    bo, bn = self._bins(padded[b], x[b], y[b])
-                    delta = grad[bn]
-                    delta -= grad[bo]
-                    if part is not None:
-                        delta *= part[flat[b]]
-                    de[b] += delta.sum(axis=1)
-            total += x.size
-            accept = np.flatnonzero(de < 0)
-            accept = accept[np.argsort(de[accept], kind="stable")]
-            bo, bn = self._bins(padded[accept], x[accept], y[accept]) if t else (None, None)
-            part_a = None if part is None else part[flat[accept]]
-            # backtracking: the improving pixels' changes add up exactly in the histograms, so
-            # the true change of E is known; while it is not a decrease (many pixels moving mass
-            # into the same bins overshoot), keep only the better half
-            while accept.size:
-                d_s = (np.bincount(ly[accept], minlength=len(self.levels))
-                       - np.bincount(lx[accept], minlength=len(self.levels)))
-                d_c = self._count_change(bn, bo, part_a, accept.size)
-                if self._change(d_c, d_s) < 0:
-                    break
-                accept = accept[:accept.size // 2]
-            if not accept.size:
-                continue
-            changed += accept.size
-            self.pad[padded[accept]] = y[accept]
-            self.pad[self._ghost_dst] = self.pad[self._ghost_src]
-            self.singleton_counts += d_s
-            self.counts += d_c
+            for a in range(0, padded.size, CHUNK):
+                if tick is not None and a:
+                    tick(done + a / padded.size, len(self.sets))
+                seen, moved = self._visit(padded[a:a + CHUNK], rng)
+                total, changed = total + seen, changed + moved
         return changed / max(total, 1)
 
-    def _bins(self, padded, x, y):
-        """(old, new) bins in the flat (T, bins) counts of the 2T cliques of each pixel at
-        ``padded``, valued ``x`` now and ``y`` if it changes (int32, (pixels, 2T))."""
-        nb = self.pad[padded[:, None] + self._reach]
-        bo = self._sign * (nb - x[:, None]) + self._base
-        bn = self._sign * (nb - y[:, None]) + self._base
-        return bo, bn
+    def _visit(self, padded, rng) -> tuple[int, int]:
+        """Propose new values to the pixels at ``padded`` (no two share a clique) and apply the
+        improving ones; returns (pixels visited, pixels changed)."""
+        c = len(self._term)
+        enter, leave = self._tables() if c else (None, None)
+        g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
+        x = self.pad[padded] - self._shift
+        y = self._propose(x, rng)
+        total = x.size
+        # a proposal of the value the pixel has changes nothing: only the others are looked at
+        moves = np.flatnonzero(x != y)
+        padded, x, y = padded[moves], x[moves], y[moves]
+        lx, ly = self.level_of[x], self.level_of[y]
+        de = g_s[ly] - g_s[lx] + 2.0 / self.n_free ** 2  # the columns' 1/N^2 are in the tables
+        if c:
+            # in blocks of rows (the (rows, columns) temporaries stay in cache), on threads:
+            # numpy releases the GIL in gathers and sums, and each block writes its own rows
+            # of de, so the result does not depend on the number of threads
+            def block(b, padded=padded, x=x, y=y, de=de, enter=enter, leave=leave):
+                nb = self._neighbours(padded[b])
+                delta = enter[nb - y[b, None]]
+                delta += leave[nb - x[b, None]]
+                de[b] += delta.sum(axis=1)
 
-    def _count_change(self, bn, bo, part, first) -> np.ndarray:
-        """Change of the term counts (T, bins) when the pixels of the ``first`` rows of the
-        bins ``bn``, ``bo`` (and the takes-part mask ``part``) change."""
-        t = len(self.terms)
-        if not t:
+            step = max(1024, BLOCK // c)
+            blocks = [slice(a, a + step) for a in range(0, x.size, step)]
+            if len(blocks) > 1:
+                list(_pool().map(block, blocks))
+            elif blocks:
+                block(blocks[0])
+        accept = np.flatnonzero(de < 0)
+        nb = self._neighbours(padded[accept]) if c else None
+        # backtracking: the improving pixels' changes add up exactly in the histograms, so
+        # the true change of E is known; while it is not a decrease (many pixels moving mass
+        # into the same bins overshoot), keep only the better half (ranked when first needed)
+        ranked = False
+        while accept.size:
+            d_s = (np.bincount(ly[accept], minlength=len(self.levels))
+                   - np.bincount(lx[accept], minlength=len(self.levels)))
+            d_c = self._count_change(nb, x[accept], y[accept])
+            if self._change(d_c, d_s) < 0:
+                break
+            if not ranked:
+                order = np.argsort(de[accept], kind="stable")
+                accept, nb, ranked = accept[order], None if nb is None else nb[order], True
+            accept = accept[:accept.size // 2]
+        if not accept.size:
+            return total, 0
+        self.pad[padded[accept]] = y[accept] + self._shift
+        self.pad[self._ghost_dst] = self.pad[self._ghost_src]
+        self.singleton_counts += d_s
+        self.counts += d_c
+        return total, accept.size
+
+    def _count_change(self, nb, x, y) -> np.ndarray:
+        """Change of the term counts (T, bins) when the pixels valued ``x``, whose neighbours
+        are ``nb`` (the first rows of it), take the values ``y``."""
+        if nb is None:
             return np.zeros((0, self.bins))
-        bn, bo = bn[:first], bo[:first]
-        if part is not None:
-            keep = part[:first]
-            bn, bo = bn[keep], bo[keep]
-        size = t * self.bins
-        return (np.bincount(bn.ravel(), minlength=size)
-                - np.bincount(bo.ravel(), minlength=size)).reshape(t, self.bins)
+        nb = nb[:x.size]
+        size = len(self._term) * self.classes * self.bins
+        return self._fold(np.bincount((nb - y[:, None]).ravel(), minlength=size)
+                          - np.bincount((nb - x[:, None]).ravel(), minlength=size))
 
     def _change(self, d_counts, d_singleton) -> float:
         """Exact change of E for the given changes of the counts."""

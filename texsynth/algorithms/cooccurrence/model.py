@@ -33,7 +33,9 @@ Deviations, one line each:
   sweeps instead of restarting from noise;
 - selection synthesizes on a torus of at most ``selection_size`` pixels a side; the exemplar's
   histograms use only pairs inside the photograph (no wrap-around pairs);
-- histograms are stored as float16 (the file is the model; reloading gives the same numbers).
+- histograms are stored as float16 (the file is the model; reloading gives the same numbers);
+- ``sweeps`` is a most: synthesis ends after a sweep that changes fewer than
+  ``cliques.CONVERGED`` of the pixels (a label map converges in about 12 of 30, measured).
 """
 
 from __future__ import annotations
@@ -315,6 +317,8 @@ def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                 selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
                 categorical: bool = False, progress: Progress | None = None) -> ChannelModel:
     """The clique model of one channel of marks (H, W) taking values in ``levels``."""
+    progress = progress or Progress()
+    progress(0.0, "exemplar statistics")
     span = int(levels.max())
     max_offset = min(max_offset, max(1, min(marks.shape) // 2 - 1))
     offsets = half_offsets(max_offset)
@@ -400,12 +404,9 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
     if start is None:
         start = rng.choice(channel.levels, size=shape, p=p / p.sum())
     relax = Relaxation(start, channel.levels, p, channel.terms(),
-                       step=0 if channel.categorical else STEP)
-    for i in range(sweeps):
-        progress(i / sweeps, f"sweep {i + 1}/{sweeps}")
-        relax.sweep(rng, lambda done, sets, i=i: progress((i + done / sets) / sweeps,
-                                                          f"sweep {i + 1}/{sweeps}"))
-        progress((i + 1) / sweeps, f"sweep {i + 1}/{sweeps}")
+                       step=0 if channel.categorical else STEP,
+                       tick=lambda: progress(0.0, "counting the clique histograms"))
+    relax.run(sweeps, rng, progress)
     return relax.image
 
 
@@ -436,6 +437,7 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
     pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
     initial = None if start is None else pca.forward(np.asarray(start, np.float32))
     for k, channel in enumerate(model.channels):
+        report(k / c, "preparing the start" if initial is not None else "drawing the start")
         marks = None
         if initial is not None:
             g = len(channel.levels)
