@@ -19,6 +19,7 @@ from _planes import (
     normal_error,
     photograph,
     spectral_slant,
+    weave_texture,
 )
 
 import texsynth
@@ -89,6 +90,16 @@ def test_lines_lead_on_bricks(bricks, slant, tilt, focal):
         assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
         assert abs(result.focal_px / focal - 1.0) < 0.1
         assert result.focal_estimated == (given is None)
+
+
+@pytest.mark.parametrize("slant, tilt, focal", [(50.0, 200.0, 300.0), (40.0, 30.0, 260.0)])
+def test_a_weave_gives_its_two_thread_families(slant, tilt, focal):
+    """A basket weave is all thread edges: its two families are found and lead the estimate."""
+    photo = photograph(weave_texture(), slant, tilt, focal)
+    for given in (None, focal):
+        result = estimate_plane(photo, focal_px=given)
+        assert result.line_families == 2 and not result.tilt_ambiguous_180
+        assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
 
 
 @pytest.mark.parametrize("slant, tilt, focal", [(55.0, 120.0, 300.0), (40.0, 250.0, 260.0)])
