@@ -101,3 +101,18 @@ def board_texture(seed=0, n=512, width=24):
     grain = ndi.gaussian_filter(rng.standard_normal((n, n)), (0.7, 12.0), mode="wrap")
     t = np.where(rows % width < 2, -0.25, shade + 0.05 * grain / grain.std())
     return ndi.spline_filter(t, order=3, mode="grid-wrap")
+
+
+def weave_texture(seed=0, n=512, cell=32):
+    """Periodic basket weave (n x n, prefiltered like :func:`noise_texture`): square cells of
+    parallel threads, alternately along x and along y, thin dark gaps between cells. Every pixel
+    is on a thread, so the cell edges are only a little stronger than the texture around them."""
+    rng = np.random.default_rng(seed)
+    rows, cols = np.mgrid[0:n, 0:n]
+    along_x = ((rows // cell) + (cols // cell)) % 2 == 0
+    thread = cell // 4
+    stripes = np.where(along_x, np.cos(np.pi * (rows % thread) / thread),
+                       np.cos(np.pi * (cols % thread) / thread)) ** 2
+    t = 0.2 * stripes + 0.02 * rng.standard_normal((n, n))
+    t = np.where(((rows % cell) < 2) | ((cols % cell) < 2), -0.15, t)
+    return ndi.spline_filter(t, order=3, mode="grid-wrap")

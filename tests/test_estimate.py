@@ -19,6 +19,7 @@ from _planes import (
     normal_error,
     photograph,
     spectral_slant,
+    weave_texture,
 )
 
 import texsynth
@@ -94,13 +95,23 @@ def test_lines_lead_on_bricks(bricks, slant, tilt, focal):
         assert result.focal_estimated == (given is None)
 
 
+@pytest.mark.parametrize("slant, tilt, focal", [(50.0, 200.0, 300.0), (40.0, 30.0, 260.0)])
+def test_a_weave_gives_its_two_thread_families(slant, tilt, focal):
+    """A basket weave is all thread edges: its two families are found and lead the estimate."""
+    photo = photograph(weave_texture(), slant, tilt, focal)
+    for given in (None, focal):
+        result = estimate_plane(photo, focal_px=given)
+        assert result.line_families == 2 and not result.tilt_ambiguous_180
+        assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
+
+
 @pytest.mark.parametrize("slant, tilt, focal", [(55.0, 120.0, 300.0), (40.0, 250.0, 260.0)])
-def test_boards_are_right_or_not_confident(slant, tilt, focal):
-    """One family of seams (no butt joints) and a directional grain: where the seams' spacing
-    is not clear enough to fix the plane, the estimate must not claim confidence."""
+def test_boards_are_placed_by_the_spacing_of_their_seams(slant, tilt, focal):
+    """One family of seams (no butt joints) and a directional grain: the seams' equal spacing
+    gives the vanishing line, so the plane and its receding direction."""
     result = estimate_plane(photograph(board_texture(), slant, tilt, focal), focal_px=focal)
-    assert (normal_error((slant, tilt), (result.slant, result.tilt)) < 5.0
-            or result.confidence < 0.5)
+    assert result.line_families == 1 and not result.tilt_ambiguous_180
+    assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0
 
 
 @pytest.mark.parametrize("slant, tilt, focal", [(50.0, 120.0, 300.0), (35.0, 250.0, 260.0)])

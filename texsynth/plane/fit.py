@@ -343,7 +343,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         fit = texture_fit()
         found = families(segments(small, mask), side)
         spaced = None
-        if len(found) == 1 and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
+        if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is
             # isotropic (foreshortened texels line up across the tilt); where it is not
             # (boards), the family's equal spacing gives the vanishing line.

@@ -38,6 +38,7 @@ _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, po
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
 _STRONG = 3.0         # gradient magnitude threshold, in units of its median over textured pixels
+_DENSE = 1.5          # ... where _STRONG leaves too few segments (dense patterns: weaves)
 _RANSAC = 400         # hypotheses per vanishing point
 _INLIER_DEG = 1.5     # consistency threshold (degrees), plus the direction noise of short segments
 _MIN_FAMILY = 6       # segments a family needs
@@ -46,36 +47,56 @@ _OVER_CHANCE = 3.0    # ... and this many times what random directions would giv
 _ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
 _G_SPACED = 0.05     # depth ratio segments must keep under a horizon hypothesis
 _CYCLES = np.arange(3.0, 60.0, 0.05)  # periods across the family tested for equal spacing
-_SPACED_Z = 20.0     # Rayleigh statistic an equal spacing needs (the best of chance: about 12)
+_CENTRAL = (10.0, 90.0)  # percentiles of the offsets across which the periods are counted
+_SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on the plane renders:
+#                      wrong lone families reach 9.7, right ones and the test boards 12.9 up)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 
 
 @dataclass(frozen=True)
 class Segments:
     """Straight segments: midpoints ``m`` (N, 2), unit directions ``d`` (N, 2) and lengths (N,),
-    in centred y-up pixels of the analysed image (:mod:`texsynth.plane.geometry`)."""
+    in centred y-up pixels of the analysed image (:mod:`texsynth.plane.geometry`); ``dense``:
+    found at the lower threshold of a dense pattern (:func:`segments`)."""
 
     m: np.ndarray
     d: np.ndarray
     length: np.ndarray
+    dense: bool = False
 
     def __len__(self) -> int:
         return len(self.length)
 
     def take(self, keep) -> Segments:
-        return Segments(self.m[keep], self.d[keep], self.length[keep])
+        return Segments(self.m[keep], self.d[keep], self.length[keep], self.dense)
 
 
 def segments(lum: np.ndarray, mask: np.ndarray) -> Segments:
-    """Line-support regions of ``lum`` (textured pixels ``mask`` only) fitted by their axes."""
-    h, w = lum.shape
+    """Line-support regions of ``lum`` (textured pixels ``mask`` only) fitted by their axes.
+
+    Pixels are strong above ``_STRONG`` times the median gradient; where that leaves fewer
+    segments than two families need, above ``_DENSE`` times it (a dense pattern: in a weave
+    every pixel lies on a thread's edge, so the median is itself high and the cell edges stand
+    only about twice above it). Such segments are thread edges in short bundles, equally spaced
+    within a cell only: their spacing says nothing of the plane (``dense``)."""
     smooth = ndi.gaussian_filter(lum, 1.0, mode="reflect")
     g_row, g_col = ndi.sobel(smooth, 0), ndi.sobel(smooth, 1)
     magnitude = np.hypot(g_row, g_col)
     textured = mask & (magnitude > 0)
     if not textured.any():
         return Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0))
-    strong = textured & (magnitude > _STRONG * np.median(magnitude[textured]))
+    median = np.median(magnitude[textured])
+    found = _support_regions(g_row, g_col, magnitude, textured & (magnitude > _STRONG * median))
+    if len(found) < 2 * _MIN_FAMILY:
+        dense = _support_regions(g_row, g_col, magnitude,
+                                 textured & (magnitude > _DENSE * median))
+        found = Segments(dense.m, dense.d, dense.length, True)
+    return found
+
+
+def _support_regions(g_row, g_col, magnitude, strong) -> Segments:
+    """Burns et al.'s line-support regions of the ``strong`` pixels, fitted by their axes."""
+    h, w = magnitude.shape
     angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
     rows, cols = np.nonzero(strong)
     weight = magnitude[rows, cols]
@@ -251,8 +272,11 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     for i, ti in enumerate(t):
         g = 1.0 - x @ (c * a + ti * across)
         if g.min() > _G_SPACED:
+            # Periods counted over the central offsets: segments near the horizon (o grows as
+            # 1 / g) would squeeze the rest into one period, periodic under any hypothesis.
             o = (x @ m) / g
-            o = (o - o.min()) / max(float(np.ptp(o)), 1e-12)
+            lo_o, hi_o = np.percentile(o, _CENTRAL)
+            o = (o - lo_o) / max(float(hi_o - lo_o), 1e-12)
             rayleigh = np.abs(np.exp(2j * math.pi * _CYCLES[:, None] * o[None]) @ weight) ** 2
             z[i] = rayleigh.max() / (weight * weight).sum()
     best = int(np.argmax(z))
