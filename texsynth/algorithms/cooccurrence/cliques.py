@@ -37,12 +37,11 @@ procedure to its reference [13]; this sampler is ours.)
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
+
+from ...blocks.parallel import run
 
 __all__ = [
     "GOLOMB",
@@ -61,9 +60,6 @@ BLOCK = 1 << 16
 
 #: Most pixels of a set visited at once (between two progress reports).
 CHUNK = 1 << 18
-
-#: Most threads a sweep uses (its blocks are independent; the result is the same for any number).
-THREADS = 4
 
 #: A relaxation has converged when a sweep changes fewer than this share of its free pixels.
 CONVERGED = 1e-4
@@ -229,12 +225,6 @@ def colour_sets(shape, offsets, free: np.ndarray | None = None) -> list[np.ndarr
     counts = np.bincount(flat[order] + 1)
     bounds = np.cumsum(counts)
     return [s for s in np.split(order, bounds[:-1])[1:] if s.size]
-
-
-@lru_cache(maxsize=1)
-def _pool() -> ThreadPoolExecutor:
-    """Worker threads for the sweeps' blocks (as many as cores, at most ``THREADS``)."""
-    return ThreadPoolExecutor(max_workers=max(1, min(THREADS, os.cpu_count() or 1)))
 
 
 @dataclass(frozen=True)
@@ -477,10 +467,7 @@ class Relaxation:
 
             step = max(1024, BLOCK // c)
             blocks = [slice(a, a + step) for a in range(0, x.size, step)]
-            if len(blocks) > 1:
-                list(_pool().map(block, blocks))
-            elif blocks:
-                block(blocks[0])
+            run(block, blocks)
         accept = np.flatnonzero(de < 0)
         nb = self._neighbours(padded[accept]) if c else None
         # backtracking: the improving pixels' changes add up exactly in the histograms, so
