@@ -60,7 +60,7 @@ from ...api import synthesize as synthesize_method
 from ...blocks.color import ColorPCA
 from ...progress import Progress
 from ...registry import Param, get_method, methods
-from ..cooccurrence import COARSE_PIXELS, REFINE_SWEEPS
+from ..cooccurrence import COARSE_PIXELS, REFINE_SWEEPS, upsample_half
 from ..cooccurrence import METHOD as CLIQUE_MODEL
 from ..cooccurrence import model as co
 from ..cooccurrence.cliques import Relaxation, Term, difference_histograms, half_offsets
@@ -336,11 +336,8 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
                                           report.span(0.0, 0.4), interaction_distance,
                                           max_offset, threshold, max_cliques, levels, sweeps,
                                           selection_size)
-            start = np.empty((height, width, coarse.shape[2]), np.float32)
-            for c in range(coarse.shape[2]):  # channel by channel, reporting between them
-                report(0.4, "upsampling the half-size fill")
-                start[:, :, c] = ndimage.zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
-                                              grid_mode=True, prefilter=False)
+            start = upsample_half(coarse, height, width, lambda report=report: report(
+                0.4, "upsampling the half-size fill"))
             sweeps = min(sweeps, REFINE_SWEEPS)
             report = report.span(0.4, 1.0)
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,

@@ -53,16 +53,24 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
                               progress.span(0.0, 0.4), sweeps=sweeps, **params)
-        start = np.empty((height, width, coarse.shape[2]), np.float32)
-        for c in range(coarse.shape[2]):  # channel by channel, reporting between them
-            progress.span(0.4, 0.4)(0.0, "upsampling the half-size synthesis")
-            start[:, :, c] = zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap",
-                                  grid_mode=True, prefilter=False)[:height, :width]
+        start = upsample_half(coarse, height, width, lambda: progress(
+            0.4, "upsampling the half-size synthesis"))
         sweeps = min(sweeps, REFINE_SWEEPS)
         progress = progress.span(0.4, 1.0)
     model = fit(exemplar, seed=rng, progress=progress.span(0.0, 0.3), **params)
     return synthesize(model, width, height, seed=rng, sweeps=sweeps,
                       progress=progress.span(0.3, 1.0), start=start)
+
+
+def upsample_half(coarse: np.ndarray, height: int, width: int, tick) -> np.ndarray:
+    """The half-size result ``coarse`` (h, w, C) twice as large on the torus (bilinear,
+    periodic), cropped to (height, width); channel by channel, ``tick()`` before each."""
+    start = np.empty((height, width, coarse.shape[2]), np.float32)
+    for c in range(coarse.shape[2]):
+        tick()
+        start[:, :, c] = zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap", grid_mode=True,
+                              prefilter=False)[:height, :width]
+    return start
 
 
 def _cost(shape, width, height, params):
