@@ -3,6 +3,7 @@ errors."""
 
 import numpy as np
 import pytest
+from scipy import ndimage
 
 import texsynth
 from texsynth.algorithms.composite import synthesis as composite
@@ -156,3 +157,18 @@ def test_large_outputs_fill_from_a_half_size_composite_and_still_tile(monkeypatc
     assert np.array_equal(a.image, b.image) and not np.array_equal(a.image, direct.image)
     assert a.image.shape == (64, 96, 3) and seam_ratio(a.image) < 1.3
     assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
+
+
+def test_boundaries_off_the_even_grid_keep_their_colours_in_the_half_size_fill(monkeypatch):
+    """Pixels along the boundaries of a painted layout, all on odd rows and columns (each 2 x 2
+    block of the half-size fill straddles them), take their own region's colour."""
+    img, truth = _two_colours((64, 64))
+    layout = np.zeros((64, 96), np.int32)
+    layout[9:31, 5:27] = 1
+    layout[:, 41:55] = 1
+    layout[45:, 61:91] = 1
+    monkeypatch.setattr(composite, "COARSE_PIXELS", 40 * 40)
+    r = composite.synthesize(img, 96, 64, labels=truth, output_labels=layout, seed=1, **FAST)
+    edge = ndimage.binary_dilation(layout == 1) & ndimage.binary_dilation(layout == 0)
+    red_side = r.image[:, :, 0] > r.image[:, :, 2]
+    assert (red_side == (layout == 0))[edge].mean() > 0.98

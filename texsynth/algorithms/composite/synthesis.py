@@ -264,9 +264,10 @@ def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int],
 
 def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
                        max_offset, threshold, max_cliques, levels, sweeps, selection_size,
-                       start=None):
+                       start=None, start_labels=None):
     """Section 4: every PCA component, every class in ``order``, with interactions; each
-    region relaxed from noise, or from the image ``start`` (the output's size) when given."""
+    region relaxed from noise, or from the image ``start`` (the output's size) when given,
+    whose pixels take the class ``start_labels`` (noise where that is not their own class)."""
     pca = ColorPCA.fit(x)
     comp = pca.forward(x)
     initial = None if start is None else pca.forward(start)
@@ -310,6 +311,8 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
             else:
                 synth[region] = co.quantize(initial[:, :, k][region], lo[k],
                                             lo[k] + g * width, g)
+                stray = region & (start_labels != n)
+                synth[stray] = rng.choice(levels_k, size=int(stray.sum()), p=singleton)
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
                                out_labels, n, co.STEP,
                                lambda part=part: part(0.4, "counting cliques"))
@@ -323,10 +326,12 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
 def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_distance,
                          max_offset, threshold, max_cliques, levels, sweeps, selection_size):
     """:func:`_fill_cooccurrence`, from a half-size fill (recursively) above ``COARSE_PIXELS``
-    output pixels, when halving keeps every class of the exemplar and the output."""
+    output pixels, when halving keeps every class of the exemplar and the output. Output
+    pixels whose 2 x 2 block's majority class is not their own (a boundary off the even grid)
+    start from their class's noise, not from the other class's colours."""
     (h, w), (height, width) = x.shape[:2], out_labels.shape
     classes = int(max(labels.max(), out_labels.max())) + 1
-    start = None
+    start = start_labels = None
     if width * height > COARSE_PIXELS and min(h, w) >= 64 and height % 2 == width % 2 == 0:
         half_lab, half_out = _downscale(labels, 2, classes), _downscale(out_labels, 2, classes)
         if (set(np.unique(half_lab)) == set(np.unique(labels))
@@ -338,11 +343,12 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
                                           selection_size)
             start = upsample_half(coarse, height, width, lambda report=report: report(
                 0.4, "upsampling the half-size fill"))
+            start_labels = half_out.repeat(2, axis=0).repeat(2, axis=1)
             sweeps = min(sweeps, REFINE_SWEEPS)
             report = report.span(0.4, 1.0)
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
                               max_offset, threshold, max_cliques, levels, sweeps,
-                              selection_size, start)
+                              selection_size, start, start_labels)
 
 
 def _inscribed_square(mask: np.ndarray) -> tuple[slice, slice, int]:
