@@ -159,6 +159,34 @@ def test_large_outputs_fill_from_a_half_size_composite_and_still_tile(monkeypatc
     assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
 
 
+def _discs(side=128, seed=0):
+    """Two classes: 14 discs of radius 8 to 19 on a torus (mean run length about 27 pixels)."""
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0:side, 0:side]
+    labels = np.zeros((side, side), np.int32)
+    for _ in range(14):
+        cy, cx, r = rng.integers(0, side), rng.integers(0, side), rng.integers(8, 20)
+        dy, dx = np.abs(y - cy), np.abs(x - cx)
+        labels[np.minimum(dy, side - dy) ** 2 + np.minimum(dx, side - dx) ** 2 < r * r] = 1
+    return labels
+
+
+@pytest.mark.parametrize("label_scale", [3, 4])
+def test_label_map_modelled_at_a_reduced_scale_changes_class_across_the_wrap_as_inside(
+        label_scale):
+    """Class changes between the last and first row (and column) are as frequent as between
+    interior neighbours, over seeds: no seam in the layout (issue 18; it was 3x)."""
+    labels = _discs()
+    wrap = inside = 0.0
+    for seed in range(16):
+        out = composite.synthesize_labels(labels, 256, 256, seed=seed, label_scale=label_scale,
+                                          max_cliques=6, sweeps=8)
+        wrap += np.concatenate([out[0] != out[-1], out[:, 0] != out[:, -1]]).mean()
+        inside += np.concatenate([(np.diff(out, axis=0) != 0).ravel(),
+                                  (np.diff(out, axis=1) != 0).ravel()]).mean()
+    assert 0.75 < wrap / inside < 1.33
+
+
 def test_boundaries_off_the_even_grid_keep_their_colours_in_the_half_size_fill(monkeypatch):
     """Pixels along the boundaries of a painted layout, all on odd rows and columns (each 2 x 2
     block of the half-size fill straddles them), take their own region's colour."""

@@ -37,7 +37,9 @@ square is smaller than ``MIN_SQUARE`` (or the method's minimum) is filled with `
 Deviations, one line each:
 - the label texture is modelled at a reduced scale (``label_scale``, automatic from the mean
   run length of the labels) and upsampled periodically (bilinear class indicators, arg max), so
-  that blobs larger than ``max_offset`` stay within reach of the cliques;
+  that blobs larger than ``max_offset`` stay within reach of the cliques; the upsampling samples
+  at smoothly, randomly displaced points, so that boundaries (and the wrap) are not tied to the
+  coarse grid;
 - the in-place selection runs on a window of the exemplar (at most ``selection_size`` a
   side) where class n is most frequent, treated as a torus;
 - the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted;
@@ -78,6 +80,9 @@ MIN_PAIRS = 16
 CANDIDATE_GROUP = 32
 #: Smallest exemplar side: segmentation and a label texture need room.
 MIN_EXEMPLAR = 16
+#: Upscaled label maps: rms displacement of the sampling points and its correlation length
+#: (Gaussian sigma), in coarse pixels; half a pixel spreads boundaries evenly over the fine grid.
+SHIFT, SHIFT_LENGTH = 0.5, 2.0
 
 #: The method's parameters (the registered ``composite`` method's; :func:`synthesize` checks
 #: its keyword arguments against them).
@@ -169,22 +174,25 @@ def _downscale(labels: np.ndarray, f: int, classes: int) -> np.ndarray:
     return votes.argmax(axis=0).astype(np.int32)
 
 
-def _upscale(labels: np.ndarray, height: int, width: int, classes: int) -> np.ndarray:
-    """Periodic bilinear interpolation of each class's indicator, then the arg max."""
+def _upscale(labels: np.ndarray, height: int, width: int, classes: int,
+             rng: np.random.Generator) -> np.ndarray:
+    """Periodic bilinear interpolation of each class's indicator, then the arg max, sampled at
+    points moved by a smooth random periodic displacement (``SHIFT`` coarse pixels rms, over
+    ``SHIFT_LENGTH`` coarse pixels): unshifted, every straight boundary falls between the same
+    two fine rows or columns of each coarse pixel, and so does the wrap."""
     h, w = labels.shape
     y = (np.arange(height) + 0.5) * h / height - 0.5
     x = (np.arange(width) + 0.5) * w / width - 0.5
-    y0, x0 = np.floor(y).astype(int), np.floor(x).astype(int)
-    fy, fx = (y - y0)[:, None], (x - x0)[None, :]
+    points = np.stack(np.meshgrid(y, x, indexing="ij"))
+    shift = ndimage.gaussian_filter(rng.standard_normal((2, h, w)), (0, SHIFT_LENGTH,
+                                                                      SHIFT_LENGTH), mode="wrap")
+    shift *= SHIFT / np.maximum(shift.std(axis=(1, 2), keepdims=True), 1e-12)
+    points += [ndimage.map_coordinates(d, points, order=1, mode="grid-wrap") for d in shift]
     best = np.full((height, width), -1.0)
     out = np.zeros((height, width), np.int32)
     for k in range(classes):
-        ind = (labels == k).astype(np.float32)
-        a = ind[y0 % h][:, x0 % w]
-        b = ind[y0 % h][:, (x0 + 1) % w]
-        c = ind[(y0 + 1) % h][:, x0 % w]
-        d = ind[(y0 + 1) % h][:, (x0 + 1) % w]
-        v = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy
+        v = ndimage.map_coordinates((labels == k).astype(np.float64), points, order=1,
+                                    mode="grid-wrap")
         better = v > best
         out[better], best[better] = k, v[better]
     return out
@@ -212,7 +220,7 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     shape = (-(-height // f), -(-width // f))
     marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
     out = model.channels[0].decode(marks, rng)
-    return _upscale(out, height, width, classes) if f > 1 else out
+    return _upscale(out, height, width, classes, rng) if f > 1 else out
 
 
 # --- the subtextures --------------------------------------------------------------------------
