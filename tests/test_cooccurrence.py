@@ -6,6 +6,7 @@ import pytest
 
 import texsynth
 from texsynth.algorithms.cooccurrence import model as co
+from texsynth.algorithms.cooccurrence import upsample_half
 from texsynth.algorithms.cooccurrence.cliques import (
     PairIndex,
     Relaxation,
@@ -192,3 +193,17 @@ def test_large_outputs_relax_from_a_half_size_synthesis_and_still_tile(monkeypat
     assert np.array_equal(a, b) and not np.array_equal(a, direct)
     assert a.shape == (96, 128, 3) and seam_ratio(a) < 1.3
     assert np.abs(a.mean(axis=(0, 1)) - photo.mean(axis=(0, 1))).max() < 0.05
+
+
+@pytest.mark.parametrize("size", [(63, 63), (64, 47)])
+def test_half_size_start_of_an_odd_sized_output_tiles_like_the_half_size_result(size):
+    """The multiresolution start of an odd side (the half-size result upsampled) jumps across
+    the wrap no more than the half-size result does; cropping a 2x upsampling cut the torus."""
+    height, width = size
+    ratios = []
+    for seed in range(4):
+        coarse = smooth_noise((-(-height // 2), -(-width // 2)), seed=seed, sigma=1.5)
+        start = upsample_half(coarse, height, width, lambda: None)
+        assert start.shape == (height, width, 3)
+        ratios.append(seam_ratio(start) / seam_ratio(coarse))
+    assert np.mean(ratios) < 1.25

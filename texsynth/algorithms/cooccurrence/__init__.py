@@ -63,13 +63,15 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
 
 
 def upsample_half(coarse: np.ndarray, height: int, width: int, tick) -> np.ndarray:
-    """The half-size result ``coarse`` (h, w, C) twice as large on the torus (bilinear,
-    periodic), cropped to (height, width); channel by channel, ``tick()`` before each."""
+    """The half-size result ``coarse`` (h, w, C) stretched over (height, width) on the torus
+    (bilinear, periodic; a factor 2 for even sides, just under it for odd ones, where cropping a
+    2x result would cut the torus at the wrap); channel by channel, ``tick()`` before each."""
     start = np.empty((height, width, coarse.shape[2]), np.float32)
+    factor = (height / coarse.shape[0], width / coarse.shape[1])
     for c in range(coarse.shape[2]):
         tick()
-        start[:, :, c] = zoom(coarse[:, :, c], 2, order=1, mode="grid-wrap", grid_mode=True,
-                              prefilter=False)[:height, :width]
+        start[:, :, c] = zoom(coarse[:, :, c], factor, order=1, mode="grid-wrap",
+                              grid_mode=True, prefilter=False)
     return start
 
 
