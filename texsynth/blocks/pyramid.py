@@ -43,8 +43,13 @@ def _rfft2(image: np.ndarray, workers: int = -1) -> np.ndarray:
     return sfft.rfft2(image, workers=workers)
 
 
-def _irfft2(spectrum: np.ndarray, s, workers: int = -1) -> np.ndarray:
-    return sfft.irfft2(spectrum, s=s, workers=workers)
+def _irfft2(spectrum: np.ndarray, s, workers: int = -1, overwrite: bool = False) -> np.ndarray:
+    """scipy's inverse real FFT, as its two passes: the columns' complex transform (in place in
+    ``spectrum`` when ``overwrite``), then the rows' real ones. Done in one call, scipy would
+    copy the spectrum into a fresh buffer every time (a third of the transform's time at
+    2048^2, most of it page faults)."""
+    columns = sfft.ifft(spectrum, axis=0, workers=workers, overwrite_x=overwrite)
+    return sfft.irfft(columns, n=s[1], axis=1, workers=workers, overwrite_x=True)
 
 
 def max_scales(shape: tuple[int, int]) -> int:
@@ -226,7 +231,7 @@ class SteerablePyramid:
                 low += partial
         low *= self.lo0
         low += spectra[0]
-        return _irfft2(low, s=self.shape).astype(np.float32, copy=False)
+        return _irfft2(low, s=self.shape, overwrite=True).astype(np.float32, copy=False)
 
 
 def _band_from_spectrum(job) -> np.ndarray:
@@ -237,7 +242,7 @@ def _band_from_spectrum(job) -> np.ndarray:
         spectrum = spectrum * f
     if phase is not None and phase != 1:
         spectrum *= phase
-    return _irfft2(spectrum, s=shape, workers=1)
+    return _irfft2(spectrum, s=shape, workers=1, overwrite=f is not None)
 
 
 def _filtered_spectrum(job) -> np.ndarray:
