@@ -83,8 +83,7 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     periodic = periodic_component(components)
     setup(0.0, "analysing the exemplar")
     pyr_exemplar = SteerablePyramid(exemplar.shape[:2], depth, orientations)
-    pyr_output = SteerablePyramid((height, width), depth, orientations)
-    setup(0.0, "analysing the exemplar")
+    pyr_output = SteerablePyramid((height, width), depth, orientations, setup.span(0.0, 0.5))
     noise = rng.random((height, width, channels), dtype=np.float32)
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
@@ -94,14 +93,16 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
         subbands = pyr_exemplar.analyze(periodic[:, :, c])
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands))
-        setup((c + 1) / channels, "analysing the exemplar")
+        setup(0.5 + 0.5 * (c + 1) / channels, "analysing the exemplar")
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
     iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
             message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
-            pw = match_subbands[c](pyr_output.analyze(image[c]))
+            pw = pyr_output.analyze(image[c])
+            iterating((it + (c + 0.25) / channels) / iterations, message)
+            pw = match_subbands[c](pw)
             iterating((it + (c + 0.5) / channels) / iterations, message)
             match(pyr_output.synthesize(pw), pixels[c], out=image[c])
             iterating((it + (c + 1) / channels) / iterations, message)
