@@ -57,6 +57,7 @@ from ..blocks.histogram import (
     match,
     match_joint,
 )
+from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import Coefficients, SteerablePyramid, pyramid_depth
 from ..blocks.steering import Steering
@@ -124,9 +125,10 @@ class _BandMatch:
         self.targets = [TargetHistogram(band) for band in exemplar.arrays()]
 
     def __call__(self, pw: Coefficients) -> Coefficients:
-        """``pw`` matched in place (its bands are the analysis' own arrays)."""
-        for band, t in zip(pw.arrays(), self.targets, strict=True):
-            match(band, t, out=band)
+        """``pw`` matched in place (its bands are the analysis' own arrays), the bands side by
+        side on the cores, each on one."""
+        run(lambda job: match(job[0], job[1], out=job[0]),
+            zip(pw.arrays(), self.targets, strict=True))
         return pw
 
 
