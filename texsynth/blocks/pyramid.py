@@ -32,22 +32,24 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft as sfft
 
-from .parallel import run
+from .parallel import run, threads
 
 __all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
 
 
-def _rfft2(image: np.ndarray, workers: int = -1) -> np.ndarray:
-    """scipy's real FFT, on every core by default (rows and columns are independent transforms,
-    so the result does not depend on the number of threads)."""
-    return sfft.rfft2(image, workers=workers)
+def _rfft2(image: np.ndarray, workers: int | None = None) -> np.ndarray:
+    """scipy's real FFT, on every core by default, on one inside the pool (rows and columns are
+    independent transforms, so the result does not depend on the number of threads)."""
+    return sfft.rfft2(image, workers=workers or threads())
 
 
-def _irfft2(spectrum: np.ndarray, s, workers: int = -1, overwrite: bool = False) -> np.ndarray:
+def _irfft2(spectrum: np.ndarray, s, workers: int | None = None,
+            overwrite: bool = False) -> np.ndarray:
     """scipy's inverse real FFT, as its two passes: the columns' complex transform (in place in
     ``spectrum`` when ``overwrite``), then the rows' real ones. Done in one call, scipy would
     copy the spectrum into a fresh buffer every time (a third of the transform's time at
     2048^2, most of it page faults)."""
+    workers = workers or threads()
     columns = sfft.ifft(spectrum, axis=0, workers=workers, overwrite_x=overwrite)
     return sfft.irfft(columns, n=s[1], axis=1, workers=workers, overwrite_x=True)
 
