@@ -80,8 +80,8 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
     rounding), so the rows hold the projections p = R_s^T x from step to step: each step matches
     them in place and turns them into the next step's, ``p <- R_{s+1}^T R_s p``, and the last
     one turns them back, ``x = R_s p``: one (C, C) product per step. The products run in
-    cache-sized steps on every core, column by column (the result does not depend on the
-    split)."""
+    cache-sized steps on every core, column by column, and the C matches side by side (the
+    result does not depend on the split)."""
     c = xt.shape[0]
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
@@ -90,8 +90,7 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0]
         _turn(xt, (basis.T @ previous).astype(np.float32))
         targets = run(TargetHistogram, basis.T.astype(np.float32) @ yt)  # C sorts side by side
-        for k in range(c):
-            match(xt[k], targets[k], out=xt[k])
+        run(lambda job: match(job[0], job[1], out=job[0]), zip(xt, targets, strict=True))
         previous = basis
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
