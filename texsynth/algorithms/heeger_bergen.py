@@ -39,10 +39,9 @@ Deviations, one line each:
   after the last, so the PCA components do not combine into colours the photo never had; the result
   is projected back and clipped to the exemplar's per-channel range;
 - joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
-- the channels of an iteration run side by side, one core each, as far as there are cores
-  (``_lanes``); the rest, the subbands' matches and transforms and the colour steps' products run
-  on every core (``texsynth.blocks.parallel``), split so that the output does not depend on the
-  number of cores.
+- the matches' value ranges, the subbands' transforms and the colour steps' products run on every
+  core (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
+  cores.
 """
 
 from __future__ import annotations
@@ -91,7 +90,7 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     pyr_output = SteerablePyramid((height, width), depth, orientations, setup.span(0.0, 0.5))
     noise = rng.random((height, width, channels), dtype=np.float32)
 
-    work = JointWork(width * height) if joint else None  # reused by every channel (one by one)
+    work = JointWork(width * height) if joint else None      # reused by every channel and level
     pixels, match_subbands = [], []
     for c in range(channels):
         pixels.append(TargetHistogram(components[:, :, c]))
@@ -113,7 +112,7 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 
     for it in range(iterations):
         message = f"iteration {it + 1}/{iterations}"
-        for group in _lanes(channels) if work is None else [[c] for c in range(channels)]:
+        for group in _lanes(channels):
             shared = _SharedProgress(iterating.span((it + group[0] / channels) / iterations,
                                                     (it + (group[-1] + 1) / channels) / iterations),
                                      len(group), message)
