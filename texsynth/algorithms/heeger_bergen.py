@@ -46,11 +46,8 @@ Deviations, one line each:
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 
-from ..blocks import parallel
 from ..blocks.color import ColorPCA, sliced_transfer_rows
 from ..blocks.histogram import (
     BINS,
@@ -101,23 +98,15 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
     iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
-    def channel_iteration(c: int, report) -> None:
-        """One iteration on channel c (the loop's body in the module notes)."""
-        pw = pyr_output.analyze(image[c])
-        report(0.25)
-        pw = match_subbands[c](pw)
-        report(0.5)
-        match(pyr_output.synthesize(pw), pixels[c], out=image[c])
-        report(1.0)
-
     for it in range(iterations):
-        message = f"iteration {it + 1}/{iterations}"
-        for group in _lanes(channels):
-            shared = _SharedProgress(iterating.span((it + group[0] / channels) / iterations,
-                                                    (it + (group[-1] + 1) / channels) / iterations),
-                                     len(group), message)
-            run(lambda job: channel_iteration(*job),
-                [(c, shared.reporter(lane)) for lane, c in enumerate(group)])
+        for c in range(channels):
+            message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
+            pw = pyr_output.analyze(image[c])
+            iterating((it + (c + 0.25) / channels) / iterations, message)
+            pw = match_subbands[c](pw)
+            iterating((it + (c + 0.5) / channels) / iterations, message)
+            match(pyr_output.synthesize(pw), pixels[c], out=image[c])
+            iterating((it + (c + 1) / channels) / iterations, message)
         if channels > 1:
             last = it == iterations - 1
             done = (it + 1) / iterations
@@ -127,34 +116,6 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 
     result = pca.inverse(np.moveaxis(image, 0, -1))
     return np.clip(result, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
-
-
-def _lanes(channels: int) -> list[list[int]]:
-    """The channels in groups run side by side, one core each (as many as there are cores),
-    then the rest one by one on every core: at 2 cores and 3 channels, [[0, 1], [2]]. Side by
-    side, no core waits for the other at the end of a step or while it does single-threaded
-    bookkeeping (tables, sums, Python)."""
-    lanes = parallel.WORKERS
-    whole = channels - channels % lanes if lanes > 1 else 0
-    return ([list(range(g, g + lanes)) for g in range(0, whole, lanes)]
-            + [[c] for c in range(whole, channels)])
-
-
-class _SharedProgress:
-    """Progress of channels run side by side: the mean of their steps (0..1), which never
-    decreases, reported under a lock (so in order) whenever one of them reports."""
-
-    def __init__(self, progress, lanes: int, message: str):
-        self.progress, self.message = progress, message
-        self.steps = [0.0] * lanes
-        self.lock = threading.Lock()
-
-    def reporter(self, lane: int):
-        def report(step: float) -> None:
-            with self.lock:
-                self.steps[lane] = step
-                self.progress(sum(self.steps) / len(self.steps), self.message)
-        return report
 
 
 class _BandMatch:
