@@ -39,7 +39,8 @@ Deviations, one line each:
   after the last, so the PCA components do not combine into colours the photo never had; the result
   is projected back and clipped to the exemplar's per-channel range;
 - joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
-- the matches' value ranges, the subbands' transforms and the colour steps' products run on every
+- a channel's subband matches, the subbands' transforms and the colour steps' matches run side by
+  side, the matches' value ranges and the colour steps' products by ranges, on every
   core (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
   cores.
 """
@@ -177,8 +178,9 @@ class _OrientedMatch:
 
 
 def _memory(shape, width, height, params):
-    """Output and noise (C floats), one channel's pyramid and spectra, the sliced transport's
-    copies and projections (4 x C floats), the synthesis' subband spectra, all held at once while
+    """Output and noise (C floats), one channel's pyramid and spectra, 8 B per channel of
+    margin (the sliced transport's former copies; it now works in place), the synthesis'
+    subband spectra, all held at once while
     they are computed side by side (about 26 B, counted 32), every channel's exemplar targets.
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
