@@ -202,10 +202,12 @@ def _cost(shape, width, height, params):
     and synthesis of the output and the histogram matching of each band (K + 1 band images of the
     output's size per channel) against the exemplar's sorted values. Steered and joint matching:
     factors 1.3 and 2, not fitted. The output's coefficient is 0.6 of the one fitted before the
-    work ran on both cores (same-sitting wall ratios at 1024^2: 0.53 and 0.67; to refit quiet)."""
+    work ran on both cores (same-sitting wall ratios at 1024^2: 0.53 and 0.67), then 0.75 of
+    that after the second speed-up (same-sitting at 2048^2: CPU 35.1 / 46.8 s, wall 70 / 92 s on
+    a loaded machine); to refit quiet."""
     h, w, c = shape
     k = params["orientations"]
-    per_iteration = 3.0e-8 * width * height * c * (k + 1) + 1.3e-6 * h * w * c
+    per_iteration = 2.25e-8 * width * height * c * (k + 1) + 1.3e-6 * h * w * c
     extra = (2.0 if params.get("joint") else 1.0) * (1.3 if params.get("steered") else 1.0)
     return 0.02 + params["iterations"] * per_iteration * extra
 
