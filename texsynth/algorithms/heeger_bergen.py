@@ -39,7 +39,8 @@ Deviations, one line each:
   after the last, so the PCA components do not combine into colours the photo never had; the result
   is projected back and clipped to the exemplar's per-channel range;
 - joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
-- the matches' value ranges, the subbands' transforms and the colour steps' products run on every
+- a channel's subband matches, the subbands' transforms and the colour steps' matches run side by
+  side, the matches' value ranges and the colour steps' products by ranges, on every
   core (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
   cores.
 """
@@ -57,6 +58,7 @@ from ..blocks.histogram import (
     match,
     match_joint,
 )
+from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import Coefficients, SteerablePyramid, pyramid_depth
 from ..blocks.steering import Steering
@@ -83,8 +85,7 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     periodic = periodic_component(components)
     setup(0.0, "analysing the exemplar")
     pyr_exemplar = SteerablePyramid(exemplar.shape[:2], depth, orientations)
-    pyr_output = SteerablePyramid((height, width), depth, orientations)
-    setup(0.0, "analysing the exemplar")
+    pyr_output = SteerablePyramid((height, width), depth, orientations, setup.span(0.0, 0.5))
     noise = rng.random((height, width, channels), dtype=np.float32)
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
@@ -94,14 +95,16 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
         subbands = pyr_exemplar.analyze(periodic[:, :, c])
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands))
-        setup((c + 1) / channels, "analysing the exemplar")
+        setup(0.5 + 0.5 * (c + 1) / channels, "analysing the exemplar")
     image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
     iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
             message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
-            pw = match_subbands[c](pyr_output.analyze(image[c]))
+            pw = pyr_output.analyze(image[c])
+            iterating((it + (c + 0.25) / channels) / iterations, message)
+            pw = match_subbands[c](pw)
             iterating((it + (c + 0.5) / channels) / iterations, message)
             match(pyr_output.synthesize(pw), pixels[c], out=image[c])
             iterating((it + (c + 1) / channels) / iterations, message)
@@ -123,9 +126,10 @@ class _BandMatch:
         self.targets = [TargetHistogram(band) for band in exemplar.arrays()]
 
     def __call__(self, pw: Coefficients) -> Coefficients:
-        """``pw`` matched in place (its bands are the analysis' own arrays)."""
-        for band, t in zip(pw.arrays(), self.targets, strict=True):
-            match(band, t, out=band)
+        """``pw`` matched in place (its bands are the analysis' own arrays), the bands side by
+        side on the cores, each on one."""
+        run(lambda job: match(job[0], job[1], out=job[0]),
+            zip(pw.arrays(), self.targets, strict=True))
         return pw
 
 
@@ -174,8 +178,9 @@ class _OrientedMatch:
 
 
 def _memory(shape, width, height, params):
-    """Output and noise (C floats), one channel's pyramid and spectra, the sliced transport's
-    copies and projections (4 x C floats), the synthesis' subband spectra, all held at once while
+    """Output and noise (C floats), one channel's pyramid and spectra, 8 B per channel of
+    margin (the sliced transport's former copies; it now works in place), the synthesis'
+    subband spectra, all held at once while
     they are computed side by side (about 26 B, counted 32), every channel's exemplar targets.
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
@@ -197,10 +202,12 @@ def _cost(shape, width, height, params):
     and synthesis of the output and the histogram matching of each band (K + 1 band images of the
     output's size per channel) against the exemplar's sorted values. Steered and joint matching:
     factors 1.3 and 2, not fitted. The output's coefficient is 0.6 of the one fitted before the
-    work ran on both cores (same-sitting wall ratios at 1024^2: 0.53 and 0.67; to refit quiet)."""
+    work ran on both cores (same-sitting wall ratios at 1024^2: 0.53 and 0.67), then 0.75 of
+    that after the second speed-up (same-sitting at 2048^2: CPU 35.1 / 46.8 s, wall 70 / 92 s on
+    a loaded machine); to refit quiet."""
     h, w, c = shape
     k = params["orientations"]
-    per_iteration = 3.0e-8 * width * height * c * (k + 1) + 1.3e-6 * h * w * c
+    per_iteration = 2.25e-8 * width * height * c * (k + 1) + 1.3e-6 * h * w * c
     extra = (2.0 if params.get("joint") else 1.0) * (1.3 if params.get("steered") else 1.0)
     return 0.02 + params["iterations"] * per_iteration * extra
 

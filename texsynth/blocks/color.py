@@ -74,43 +74,46 @@ def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
 def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator,
                          steps: int, progress: Progress | None = None) -> None:
     """:func:`sliced_transfer` in place on the colours stored as C contiguous rows ``xt`` (C, N)
-    (float32). The products with R run in cache-sized steps on every core, as sums of rows
-    (elementwise, so the result does not depend on the split)."""
+    (float32), with no full-size copy.
+
+    R being orthonormal, a step's ``x + R (match(R^T x) - R^T x)`` is ``R match(R^T x)`` (to
+    rounding), so the rows hold the projections p = R_s^T x from step to step: each step matches
+    them in place and turns them into the next step's, ``p <- R_{s+1}^T R_s p``, and the last
+    one turns them back, ``x = R_s p``: one (C, C) product per step. The products run in
+    cache-sized steps on every core, column by column, and the C matches side by side (the
+    result does not depend on the split)."""
     c = xt.shape[0]
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
-    px, moved = np.empty_like(xt), np.empty_like(xt)
+    previous = np.eye(c)
     for step in range(steps):
-        basis = np.linalg.qr(rng.standard_normal((c, c)))[0].astype(np.float32)
-        _product(basis.T, xt, px)                          # px = R^T x
-        targets = run(TargetHistogram, basis.T @ yt)       # C sorts side by side
-        for k in range(c):
-            match(px[k], targets[k], out=moved[k])
-        _product(basis, moved, xt, minus=px)               # x += R (match - px)
+        basis = np.linalg.qr(rng.standard_normal((c, c)))[0]
+        _turn(xt, (basis.T @ previous).astype(np.float32))
+        targets = run(TargetHistogram, basis.T.astype(np.float32) @ yt)  # C sorts side by side
+        run(lambda job: match(job[0], job[1], out=job[0]), zip(xt, targets, strict=True))
+        previous = basis
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
+    if steps:
+        _turn(xt, previous.astype(np.float32))
 
 
-def _product(m: np.ndarray, x: np.ndarray, out: np.ndarray, minus: np.ndarray | None = None):
-    """``out = m @ x`` or, given ``minus``, ``out += m @ (x - minus)`` (``x`` then overwritten),
-    for small (C, C) ``m`` and (C, N) rows, range by range on the cores."""
+def _turn(x: np.ndarray, m: np.ndarray) -> None:
+    """``x = m @ x`` in place, for a small (C, C) ``m`` and (C, N) rows, range by range on the
+    cores."""
     c = m.shape[0]
 
     def part(r):
+        turned = np.empty((c, min(STEP, r[1] - r[0])), np.float32)
+        term = np.empty_like(turned[0])
         for a in range(r[0], r[1], STEP):
-            cols = slice(a, min(a + STEP, r[1]))
-            rows = x[:, cols]
-            if minus is not None:
-                rows -= minus[:, cols]
-            term = np.empty_like(rows[0])
+            rows = x[:, a:min(a + STEP, r[1])]
+            out = turned[:, :rows.shape[1]]
             for k in range(c):
-                target = out[k, cols]
-                if minus is None:
-                    np.multiply(rows[0], m[k, 0], out=target)
-                else:
-                    target += np.multiply(rows[0], m[k, 0], out=term)
+                np.multiply(rows[0], m[k, 0], out=out[k])
                 for i in range(1, c):
-                    target += np.multiply(rows[i], m[k, i], out=term)
+                    out[k] += np.multiply(rows[i], m[k, i], out=term[:rows.shape[1]])
+            rows[...] = out
 
     run(part, ranges(x.shape[1]))
 

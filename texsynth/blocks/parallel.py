@@ -13,7 +13,7 @@ import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
-__all__ = ["WORKERS", "run", "ranges"]
+__all__ = ["WORKERS", "run", "ranges", "threads"]
 
 #: Threads of the shared pool: the cores this process may use.
 WORKERS = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
@@ -55,3 +55,9 @@ def ranges(n: int, smallest: int = 1 << 16) -> list[tuple[int, int]]:
     parts = max(1, min(WORKERS, n // smallest))
     bounds = [n * i // parts for i in range(parts + 1)]
     return list(zip(bounds[:-1], bounds[1:], strict=True))
+
+
+def threads() -> int:
+    """Threads for a library call that splits its own work (scipy's ``workers=``): every core,
+    or one inside the pool (its calls already run side by side)."""
+    return 1 if getattr(_inside, "flag", False) else WORKERS

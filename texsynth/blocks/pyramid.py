@@ -32,19 +32,26 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft as sfft
 
-from .parallel import run
+from .parallel import run, threads
 
 __all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
 
 
-def _rfft2(image: np.ndarray, workers: int = -1) -> np.ndarray:
-    """scipy's real FFT, on every core by default (rows and columns are independent transforms,
-    so the result does not depend on the number of threads)."""
-    return sfft.rfft2(image, workers=workers)
+def _rfft2(image: np.ndarray, workers: int | None = None) -> np.ndarray:
+    """scipy's real FFT, on every core by default, on one inside the pool (rows and columns are
+    independent transforms, so the result does not depend on the number of threads)."""
+    return sfft.rfft2(image, workers=workers or threads())
 
 
-def _irfft2(spectrum: np.ndarray, s, workers: int = -1) -> np.ndarray:
-    return sfft.irfft2(spectrum, s=s, workers=workers)
+def _irfft2(spectrum: np.ndarray, s, workers: int | None = None,
+            overwrite: bool = False) -> np.ndarray:
+    """scipy's inverse real FFT, as its two passes: the columns' complex transform (in place in
+    ``spectrum`` when ``overwrite``), then the rows' real ones. Done in one call, scipy would
+    copy the spectrum into a fresh buffer every time (a third of the transform's time at
+    2048^2, most of it page faults)."""
+    workers = workers or threads()
+    columns = sfft.ifft(spectrum, axis=0, workers=workers, overwrite_x=overwrite)
+    return sfft.irfft(columns, n=s[1], axis=1, workers=workers, overwrite_x=True)
 
 
 def max_scales(shape: tuple[int, int]) -> int:
@@ -63,16 +70,38 @@ def _check_scales(shape: tuple[int, int], scales: int) -> None:
                          f"{max_scales(shape)} scales, {scales} were asked for")
 
 
-def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int]):
-    """Radius (cycles per full-resolution pixel, Nyquist = 1) on a level's rfft grid, and the
-    frequency's two components fx, fy (float64)."""
+def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int],
+          rows: slice = slice(None)):
+    """Radius (cycles per full-resolution pixel, Nyquist = 1) on ``rows`` of a level's rfft grid,
+    and the frequency's two components fx, fy (float64)."""
     h, w = shape_level
-    ky = np.fft.fftfreq(h) * h
+    ky = (np.fft.fftfreq(h) * h)[rows]
     kx = np.fft.rfftfreq(w) * w
     fy = (2.0 * ky / shape_full[0])[:, None]
     fx = (2.0 * kx / shape_full[1])[None, :]
     radius = np.sqrt(fx * fx + fy * fy)
     return radius, fx, fy
+
+
+#: Rows of the frequency grid per block while masks are built: a block's float64 temporaries
+#: stay in cache, and the blocks run on every core.
+MASK_ROWS = 32
+
+
+def _masks_by_rows(shape_level, shape_full, count: int, fill) -> list[np.ndarray]:
+    """``count`` float32 masks on a level's rfft grid, each (h, w // 2 + 1), filled block of
+    rows by block: ``fill(radius, fx, fy)`` gives the block's ``count`` masks (elementwise, so
+    the blocks' split changes nothing)."""
+    h, w = shape_level
+    out = [np.empty((h, w // 2 + 1), np.float32) for _ in range(count)]
+
+    def block(a: int) -> None:
+        rows = slice(a, min(a + MASK_ROWS, h))
+        for k, mask in enumerate(fill(*_grid(shape_level, shape_full, rows))):
+            out[k][rows] = mask
+
+    run(block, range(0, h, MASK_ROWS))
+    return out
 
 
 def _radial_masks(radius: np.ndarray, top: float):
@@ -84,13 +113,13 @@ def _radial_masks(radius: np.ndarray, top: float):
 
 
 def _band_filters(radius, fx, fy, high, orientations: int) -> list[np.ndarray]:
-    """The K float32 filters alpha_K cos^(K-1)(theta - theta_m) H_j of one level, built side by
-    side. cos(theta - theta_m) is the unit frequency projected on (cos theta_m, sin theta_m)
+    """The K filters alpha_K cos^(K-1)(theta - theta_m) H_j on a level's grid (float64).
+    cos(theta - theta_m) is the unit frequency projected on (cos theta_m, sin theta_m)
     (theta = 0 at the origin, as arctan2(0, 0) gives)."""
     with np.errstate(divide="ignore"):
         inverse = np.where(radius > 0, 1.0 / radius, 0.0)
     ux, uy = fx * inverse, fy * inverse
-    ux[0, 0] = 1.0
+    ux[radius == 0] = 1.0
     gain = _angular_gain(orientations)
 
     def band(m: int) -> np.ndarray:
@@ -100,9 +129,9 @@ def _band_filters(radius, fx, fy, high, orientations: int) -> list[np.ndarray]:
         for _ in range(orientations - 2):                  # cos^(K-1)
             f *= c
         f *= high
-        return f.astype(np.float32)
+        return f
 
-    return run(band, range(orientations))
+    return [band(m) for m in range(orientations)]
 
 
 def _angular_gain(orientations: int) -> float:
@@ -137,10 +166,12 @@ class Coefficients:
 class SteerablePyramid:
     """Analysis and synthesis operators for images of one ``shape``.
 
-    Masks and cropping indices are computed once here and reused at every iteration.
+    Masks and cropping indices are computed once here and reused at every iteration;
+    ``progress`` (a ``texsynth.progress.Progress``), if given, hears of each level's masks.
     """
 
-    def __init__(self, shape: tuple[int, int], scales: int = 4, orientations: int = 4):
+    def __init__(self, shape: tuple[int, int], scales: int = 4, orientations: int = 4,
+                 progress=None):
         if not 1 <= orientations <= 16:
             raise ValueError(f"orientations must be 1..16, got {orientations}")
         _check_scales(shape, scales)
@@ -148,24 +179,29 @@ class SteerablePyramid:
         self.scales = scales
         self.orientations = orientations
         self.phase = (-1j) ** (orientations - 1)
-        radius, _, _ = _grid(self.shape, self.shape)
-        self.hi0, self.lo0 = (m.astype(np.float32) for m in _radial_masks(radius, 1.0))
-
+        self.hi0, self.lo0 = _masks_by_rows(self.shape, self.shape, 2,
+                                            lambda radius, fx, fy: _radial_masks(radius, 1.0))
         self.level_shapes = [self.shape]
         self.band_filters: list[list[np.ndarray]] = []
         self.low_masks: list[np.ndarray] = []
         self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
             shape_j = self.level_shapes[-1]
-            radius, fx, fy = _grid(shape_j, self.shape)
-            high, low = _radial_masks(radius, 2.0 ** -(j + 1))
-            self.band_filters.append(_band_filters(radius, fx, fy, high, orientations))
+
+            def fill(radius, fx, fy, top=2.0 ** -(j + 1)):
+                high, low = _radial_masks(radius, top)
+                return [*_band_filters(radius, fx, fy, high, orientations), low]
+
+            *filters, low = _masks_by_rows(shape_j, self.shape, orientations + 1, fill)
+            self.band_filters.append(filters)
             child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
             self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
             self.level_shapes.append(child)
             # L_j is zero outside the crop (below): only its cropped part is ever used
-            self.low_masks.append(low.astype(np.float32)[self.crop_rows[j], : child[1] // 2 + 1])
+            self.low_masks.append(low[self.crop_rows[j], : child[1] // 2 + 1])
+            if progress is not None:
+                progress((j + 1) / scales, "building the pyramid's filters")
 
     # The low-pass spectrum of level j is zero beyond half its band, so cropping the rows and
     # columns of the lower frequencies loses nothing; scaling by the size ratio keeps values.
@@ -226,7 +262,7 @@ class SteerablePyramid:
                 low += partial
         low *= self.lo0
         low += spectra[0]
-        return _irfft2(low, s=self.shape).astype(np.float32, copy=False)
+        return _irfft2(low, s=self.shape, overwrite=True).astype(np.float32, copy=False)
 
 
 def _band_from_spectrum(job) -> np.ndarray:
@@ -237,7 +273,7 @@ def _band_from_spectrum(job) -> np.ndarray:
         spectrum = spectrum * f
     if phase is not None and phase != 1:
         spectrum *= phase
-    return _irfft2(spectrum, s=shape, workers=1)
+    return _irfft2(spectrum, s=shape, workers=1, overwrite=f is not None)
 
 
 def _filtered_spectrum(job) -> np.ndarray:
