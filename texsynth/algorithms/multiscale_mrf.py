@@ -87,14 +87,16 @@ class _Level:
         self.random_candidates = random_candidates
         self.proposers = k if proposers is None else min(proposers, k)
 
-    def visit(self, source, confidence, rows, cols, rng):
+    def visit(self, source, confidence, rows, cols, rng, tick):
         """One visit of the pixels (rows, cols), none in another's neighbourhood: each moves to
         its best candidate when that beats its current position. Returns the new positions.
-        Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache."""
+        Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache;
+        ``tick()`` after each chunk."""
         out = source[rows, cols]
         for s in range(0, len(rows), self.CHUNK):
             sl = slice(s, s + self.CHUNK)
             out[sl] = self._visit(source, confidence, rows[sl], cols[sl], out[sl], rng)
+            tick()
         return out
 
     def _visit(self, source, confidence, rows, cols, current, rng):

@@ -3,9 +3,10 @@
 Shared by ``multiscale_mrf`` and the guided synthesis of ``texsynth.stack``, as described by
 Neubeck, Zalesny & Van Gool 2004, section 3.1 (eq. 1-2, fig. 9). The output is a position map
 ``S``: per pixel, the flat index of the exemplar pixel it shows. A *level* object knows the
-distance of its paper and answers ``level.visit(S, w, rows, cols, rng)`` with the best
-positions for the pixels (rows, cols); this module decides which pixels are visited, when, and
-how the grids follow one another:
+distance of its paper and answers ``level.visit(S, w, rows, cols, rng, tick)`` with the best
+positions for the pixels (rows, cols), calling ``tick()`` after each chunk of pixels (where the
+caller may cancel: a batch on a 4096 grid holds a million pixels); this module decides which
+pixels are visited, when, and how the grids follow one another:
 
 - Confidence: every visit adds 1/T to w(i, j) (eq. 1, T = ``visits``); a pixel is visited with
   probability proportional to 1 - w (eq. 2) and is final at w = 1.
@@ -26,6 +27,7 @@ Deviations, one line each:
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -98,7 +100,8 @@ def relax(level, source, halves, visits, rng, progress, index) -> None:
         remaining = int(need.sum())
         if remaining == 0:
             break
-        progress(1.0 - remaining / total, f"level {index}: visiting")
+        tick = functools.partial(progress, 1.0 - remaining / total, f"level {index}: visiting")
+        tick()
         # A lattice of pixels `spacing` apart, also across the wrap, at a random offset.
         ry = (rng.integers(gh) + spacing * np.arange(max(1, gh // spacing))) % gh
         rx = (rng.integers(gw) + spacing * np.arange(max(1, gw // spacing))) % gw
@@ -109,5 +112,5 @@ def relax(level, source, halves, visits, rng, progress, index) -> None:
             continue
         rows, cols = ry[iy], rx[ix]
         np.multiply(halves, np.float32(1.0 / full), out=confidence)
-        source[rows, cols] = level.visit(source, confidence, rows, cols, rng)
+        source[rows, cols] = level.visit(source, confidence, rows, cols, rng, tick)
         halves[rows, cols] = np.minimum(halves[rows, cols] + 2, full)

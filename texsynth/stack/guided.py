@@ -51,8 +51,9 @@ class _GuidedLevel:
         self.du = (step * offsets[:, 0]).astype(np.int32)
         self.dv = (step * offsets[:, 1]).astype(np.int32)
 
-    def visit(self, source, confidence, rows, cols, rng):
-        """One visit of the pixels (rows, cols) of B (none in another's neighbourhood)."""
+    def visit(self, source, confidence, rows, cols, rng, tick):
+        """One visit of the pixels (rows, cols) of B (none in another's neighbourhood);
+        ``tick()`` after each chunk of ``CHUNK`` pixels."""
         gh, gw = source.shape
         ra = (rows[:, None] + self.offsets_a[:, 0]) % gh
         ca = (cols[:, None] + self.offsets_a[:, 1]) % gw
@@ -67,6 +68,7 @@ class _GuidedLevel:
         for s in range(0, len(rows), self.CHUNK):
             sl = slice(s, s + self.CHUNK)
             out[sl] = self._best(nb[sl], nw[sl], oa[sl], pa[sl], current[sl], extra[sl])
+            tick()
         return out
 
     def _continue(self, positions, placed):
