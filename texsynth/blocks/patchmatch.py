@@ -144,7 +144,7 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
     patches to improve (default: all), whose descriptors ``target`` (n, d) holds; the others keep
     their match and still propose it. ``penalty`` (h - p + 1, w - p + 1) is added to the
     distance of each exemplar patch. ``tick()``, when given, is called after every ``CHUNK``
-    patches of a round of proposals (where a caller may cancel).
+    patches compared (where a caller may cancel).
     """
     hs, ws = features.shape
     gh, gw = nnf.shape[:2]
@@ -153,7 +153,12 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
     gi, gj = active
     grid = nnf[:, :, 0] * ws + nnf[:, :, 1]
     flat = grid[gi, gj]
-    cost = _cost(features, target, flat, penalty)
+    cost = np.empty(len(flat), np.float32)
+    for s in range(0, len(flat), CHUNK):
+        sl = slice(s, s + CHUNK)
+        cost[sl] = _cost(features, target[sl], flat[sl], penalty)
+        if tick is not None:
+            tick()
 
     def consider(r, c):
         cand = np.clip(r, 0, hs - 1) * ws + np.clip(c, 0, ws - 1)
