@@ -73,6 +73,8 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
     source = random_positions(shapes[-1], n, rng)
     halves = np.zeros(shapes[-1], np.int16)
     for lv in reversed(range(n_levels)):
+        start = work[lv + 1:].sum()
+        part = progress.span(start, start + work[lv])
         t = visits(lv) if callable(visits) else visits
         if lv < n_levels - 1:
             coarse = source
@@ -80,10 +82,10 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
             halves[::2, ::2] = t  # confidence 0.5
+        part(0.0, f"level {lv}: building")  # Esc is heard between the two long steps at 4096
         level = None  # the finer level's tables are built after the coarser one's are freed
         level = make_level(lv)
-        start = work[lv + 1:].sum()
-        relax(level, source, halves, t, rng, progress.span(start, start + work[lv]), lv)
+        relax(level, source, halves, t, rng, part, lv)
     return source
 
 
