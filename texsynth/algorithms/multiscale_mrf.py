@@ -199,14 +199,24 @@ def _memory(shape, width, height, params):
 
 
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel (4/3 for
-    the coarser levels), each candidate's disk neighbourhood compared over C + 1 values; plus the
-    exemplar table of every level."""
+    """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel on
+    each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
+    level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
+    its own coefficient); plus the exemplar table of every level (automatic levels counted at
+    the most the exemplar allows). Fitted on 64 px exemplars to 64-192 px outputs and, for the
+    refining levels, on the 1024 px photos to 2048 and 4096 (production section)."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
-    candidates = params["random_candidates"] + 6
-    units = width * height * 4 / 3 * params["visits"] * k * (c + 1) * candidates
-    return 0.1 + 5.1e-9 * units + 2.0e-7 * h * w * k * c
+    per_visit = k * (c + 1)
+    n_levels = level_count(shape, width, height, params["radius"], params["levels"] or 8)
+    units = refine_units = 0.0
+    for gh, gw in grid_shapes(width, height, n_levels):
+        if gh * gw > REFINE_PIXELS:
+            refine_units += gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+        else:
+            units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
+    return (0.1 + 5.1e-9 * units + 1.05e-9 * refine_units
+            + 6.0e-9 * n_levels * h * w * k * c)
 
 
 METHOD = register(Method(
