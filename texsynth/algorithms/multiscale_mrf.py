@@ -64,20 +64,20 @@ class _Level:
     pixel has a row ``Z = [-2 w O, w]`` (O its neighbours' colours, w their confidences), so
     ``Y_p . Z + sum w |O|^2`` is eq. 3; the last sum is the same for every candidate and is
     left out. Colours are centred on the exemplar mean. The table is built in ``out`` when given
-    (one array refilled level after level)."""
+    (one array refilled level after level), ``tick()`` after each band of it."""
 
     #: Output pixels visited at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
     def __init__(self, exemplar, offsets, step, wrap, random_candidates, proposers=None,
-                 out=None):
+                 out=None, tick=None):
         h, w, c = exemplar.shape
         colours = exemplar.reshape(h * w, c)
         centred = exemplar - colours.mean(axis=0)
         k = len(offsets)
         self.shape, self.k, self.c, self.wrap = (h, w), k, c, wrap
         dmax = np.float32((np.ptp(colours, axis=0).astype(np.float64) ** 2).sum())
-        table = neighbour_table(centred, offsets, step, wrap, dmax, out)
+        table = neighbour_table(centred, offsets, step, wrap, dmax, out, tick)
         self.table = Rows(table)
         self.n = h * w
         self.colours = Rows(centred.reshape(h * w, c))
@@ -164,10 +164,11 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
 
     table = []  # one table array, refilled by every level
 
-    def make_level(lv):
+    def make_level(lv, tick):
         level = _Level(exemplar, offsets, 2 ** lv, exemplar_tiles,
                        0 if refines(lv) else random_candidates,
-                       REFINE_PROPOSERS if refines(lv) else None, table[0] if table else None)
+                       REFINE_PROPOSERS if refines(lv) else None, table[0] if table else None,
+                       tick)
         table[:] = [level.table.array]
         return level
 

@@ -59,11 +59,12 @@ def random_positions(shape, n, rng) -> np.ndarray:
     return rng.permutation(pool)[:size].reshape(shape)
 
 
-def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
+def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object], n: int, shapes,
                          visits: int | Callable[[int], int], rng: np.random.Generator,
                          progress: Progress) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
-    coarse to fine; ``make_level(l)`` builds level l's distance (fig. 9); ``visits`` is T, or
+    coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
+    call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
     T per level as ``visits(l)``."""
     n_levels = len(shapes)
     work = np.array([gh * gw for gh, gw in shapes], float)
@@ -82,9 +83,10 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
             halves[::2, ::2] = t  # confidence 0.5
-        part(0.0, f"level {lv}: building")  # Esc is heard between the two long steps at 4096
+        building = functools.partial(part, 0.0, f"level {lv}: building")
+        building()  # Esc is heard between the random start and the table, long steps at 4096
         level = None  # the finer level's tables are built after the coarser one's are freed
-        level = make_level(lv)
+        level = make_level(lv, building)
         relax(level, source, halves, t, rng, part, lv)
     return source
 
