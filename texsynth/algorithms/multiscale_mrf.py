@@ -64,20 +64,20 @@ class _Level:
     pixel has a row ``Z = [-2 w O, w]`` (O its neighbours' colours, w their confidences), so
     ``Y_p . Z + sum w |O|^2`` is eq. 3; the last sum is the same for every candidate and is
     left out. Colours are centred on the exemplar mean. The table is built in ``out`` when given
-    (one array refilled level after level)."""
+    (one array refilled level after level), ``tick()`` after each band of it."""
 
     #: Output pixels visited at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
     def __init__(self, exemplar, offsets, step, wrap, random_candidates, proposers=None,
-                 out=None):
+                 out=None, tick=None):
         h, w, c = exemplar.shape
         colours = exemplar.reshape(h * w, c)
         centred = exemplar - colours.mean(axis=0)
         k = len(offsets)
         self.shape, self.k, self.c, self.wrap = (h, w), k, c, wrap
         dmax = np.float32((np.ptp(colours, axis=0).astype(np.float64) ** 2).sum())
-        table = neighbour_table(centred, offsets, step, wrap, dmax, out)
+        table = neighbour_table(centred, offsets, step, wrap, dmax, out, tick)
         self.table = Rows(table)
         self.n = h * w
         self.colours = Rows(centred.reshape(h * w, c))
@@ -87,14 +87,16 @@ class _Level:
         self.random_candidates = random_candidates
         self.proposers = k if proposers is None else min(proposers, k)
 
-    def visit(self, source, confidence, rows, cols, rng):
+    def visit(self, source, confidence, rows, cols, rng, tick):
         """One visit of the pixels (rows, cols), none in another's neighbourhood: each moves to
         its best candidate when that beats its current position. Returns the new positions.
-        Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache."""
+        Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache;
+        ``tick()`` after each chunk."""
         out = source[rows, cols]
         for s in range(0, len(rows), self.CHUNK):
             sl = slice(s, s + self.CHUNK)
             out[sl] = self._visit(source, confidence, rows[sl], cols[sl], out[sl], rng)
+            tick()
         return out
 
     def _visit(self, source, confidence, rows, cols, current, rng):
@@ -162,10 +164,11 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
 
     table = []  # one table array, refilled by every level
 
-    def make_level(lv):
+    def make_level(lv, tick):
         level = _Level(exemplar, offsets, 2 ** lv, exemplar_tiles,
                        0 if refines(lv) else random_candidates,
-                       REFINE_PROPOSERS if refines(lv) else None, table[0] if table else None)
+                       REFINE_PROPOSERS if refines(lv) else None, table[0] if table else None,
+                       tick)
         table[:] = [level.table.array]
         return level
 
@@ -197,14 +200,24 @@ def _memory(shape, width, height, params):
 
 
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel (4/3 for
-    the coarser levels), each candidate's disk neighbourhood compared over C + 1 values; plus the
-    exemplar table of every level."""
+    """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel on
+    each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
+    level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
+    its own coefficient); plus the exemplar table of every level (automatic levels counted at
+    the most the exemplar allows). Fitted on 64 px exemplars to 64-192 px outputs and, for the
+    refining levels, on the 1024 px photos to 2048 and 4096 (production section)."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
-    candidates = params["random_candidates"] + 6
-    units = width * height * 4 / 3 * params["visits"] * k * (c + 1) * candidates
-    return 0.1 + 5.1e-9 * units + 2.0e-7 * h * w * k * c
+    per_visit = k * (c + 1)
+    n_levels = level_count(shape, width, height, params["radius"], params["levels"] or 8)
+    units = refine_units = 0.0
+    for gh, gw in grid_shapes(width, height, n_levels):
+        if gh * gw > REFINE_PIXELS:
+            refine_units += gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+        else:
+            units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
+    return (0.1 + 5.1e-9 * units + 1.05e-9 * refine_units
+            + 6.0e-9 * n_levels * h * w * k * c)
 
 
 METHOD = register(Method(

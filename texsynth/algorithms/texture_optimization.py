@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
-from ..blocks.patchmatch import CELLS, DIMS, PatchFeatures, patchmatch
+from ..blocks.patchmatch import CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
@@ -167,13 +167,16 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
         covered &= unknown.ravel()
     image = (np.zeros((hh * ww, c), np.float32) if unknown is None
              else fixed_image.reshape(-1, c).copy())
-    image[covered] = total[covered] / norm[covered, None]
+    for s in range(0, hh * ww, CHUNK):
+        sl = slice(s, s + CHUNK)
+        image[sl][covered[sl]] = total[sl][covered[sl]] / norm[sl][covered[sl], None]
+        tick()
     return image.reshape(hh, ww, c)
 
 
-def _winners(z, nnf, grid, average, positions, unknown):
+def _winners(z, nnf, grid, average, positions, unknown, tick):
     """Each free pixel's exemplar pixel: among the patch pixels voted onto it, the one nearest
-    the weighted average."""
+    the weighted average; ``tick()`` after each patch pixel (u, v)."""
     hh, ww = grid.shape
     c = z.shape[2]
     flat_z = z.reshape(-1, c)
@@ -188,6 +191,7 @@ def _winners(z, nnf, grid, average, positions, unknown):
         better = d < best[target]
         best[target[better]] = d[better]
         source[target[better]] = s[better]
+        tick()
     covered = np.isfinite(best).reshape(hh, ww)
     if unknown is not None:
         covered &= unknown
@@ -239,8 +243,7 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
         def tick(fraction=it / iterations):  # between the steps of an iteration: Esc is heard
             progress(fraction, label)
 
-        target = features.describe(image, grid.top, grid.left)
-        tick()
+        target = features.describe(image, grid.top, grid.left, tick)
         cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
                           MATCH_ITERATIONS, grid.index, penalty, tick)
         if penalty is not None:
@@ -251,7 +254,8 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
         image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
-    return _winners(z, nnf, grid, image, positions, unknown)
+    return _winners(z, nnf, grid, image, positions, unknown,
+                    lambda: progress(1.0, label))
 
 
 def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch_size=8,

@@ -3,9 +3,10 @@
 Shared by ``multiscale_mrf`` and the guided synthesis of ``texsynth.stack``, as described by
 Neubeck, Zalesny & Van Gool 2004, section 3.1 (eq. 1-2, fig. 9). The output is a position map
 ``S``: per pixel, the flat index of the exemplar pixel it shows. A *level* object knows the
-distance of its paper and answers ``level.visit(S, w, rows, cols, rng)`` with the best
-positions for the pixels (rows, cols); this module decides which pixels are visited, when, and
-how the grids follow one another:
+distance of its paper and answers ``level.visit(S, w, rows, cols, rng, tick)`` with the best
+positions for the pixels (rows, cols), calling ``tick()`` after each chunk of pixels (where the
+caller may cancel: a batch on a 4096 grid holds a million pixels); this module decides which
+pixels are visited, when, and how the grids follow one another:
 
 - Confidence: every visit adds 1/T to w(i, j) (eq. 1, T = ``visits``); a pixel is visited with
   probability proportional to 1 - w (eq. 2) and is final at w = 1.
@@ -26,6 +27,7 @@ Deviations, one line each:
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -57,11 +59,12 @@ def random_positions(shape, n, rng) -> np.ndarray:
     return rng.permutation(pool)[:size].reshape(shape)
 
 
-def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
+def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object], n: int, shapes,
                          visits: int | Callable[[int], int], rng: np.random.Generator,
                          progress: Progress) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
-    coarse to fine; ``make_level(l)`` builds level l's distance (fig. 9); ``visits`` is T, or
+    coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
+    call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
     T per level as ``visits(l)``."""
     n_levels = len(shapes)
     work = np.array([gh * gw for gh, gw in shapes], float)
@@ -71,6 +74,8 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
     source = random_positions(shapes[-1], n, rng)
     halves = np.zeros(shapes[-1], np.int16)
     for lv in reversed(range(n_levels)):
+        start = work[lv + 1:].sum()
+        part = progress.span(start, start + work[lv])
         t = visits(lv) if callable(visits) else visits
         if lv < n_levels - 1:
             coarse = source
@@ -78,10 +83,11 @@ def synthesize_positions(make_level: Callable[[int], object], n: int, shapes,
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
             halves[::2, ::2] = t  # confidence 0.5
+        building = functools.partial(part, 0.0, f"level {lv}: building")
+        building()  # Esc is heard between the random start and the table, long steps at 4096
         level = None  # the finer level's tables are built after the coarser one's are freed
-        level = make_level(lv)
-        start = work[lv + 1:].sum()
-        relax(level, source, halves, t, rng, progress.span(start, start + work[lv]), lv)
+        level = make_level(lv, building)
+        relax(level, source, halves, t, rng, part, lv)
     return source
 
 
@@ -98,7 +104,8 @@ def relax(level, source, halves, visits, rng, progress, index) -> None:
         remaining = int(need.sum())
         if remaining == 0:
             break
-        progress(1.0 - remaining / total, f"level {index}: visiting")
+        tick = functools.partial(progress, 1.0 - remaining / total, f"level {index}: visiting")
+        tick()
         # A lattice of pixels `spacing` apart, also across the wrap, at a random offset.
         ry = (rng.integers(gh) + spacing * np.arange(max(1, gh // spacing))) % gh
         rx = (rng.integers(gw) + spacing * np.arange(max(1, gw // spacing))) % gw
@@ -109,5 +116,5 @@ def relax(level, source, halves, visits, rng, progress, index) -> None:
             continue
         rows, cols = ry[iy], rx[ix]
         np.multiply(halves, np.float32(1.0 / full), out=confidence)
-        source[rows, cols] = level.visit(source, confidence, rows, cols, rng)
+        source[rows, cols] = level.visit(source, confidence, rows, cols, rng, tick)
         halves[rows, cols] = np.minimum(halves[rows, cols] + 2, full)

@@ -34,6 +34,9 @@ DIMS = 32
 FIT_SAMPLES = 4096
 #: Exemplar rows described per block (bounds the working memory on large photos).
 BLOCK_ROWS = 64
+#: Output patches gathered or compared at once (bounds the working memory; a ``tick`` after
+#: each, so a caller can cancel within a step over a million patches).
+CHUNK = 1 << 16
 
 
 class PatchFeatures:
@@ -101,14 +104,22 @@ class PatchFeatures:
                  for a in range(g) for b in range(g)]
         return np.concatenate(parts, axis=-1)
 
-    def _project(self, cells, rows, cols):
-        return (self._raw(cells, rows, cols) - self.mean) @ self.basis
-
-    def describe(self, image: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    def describe(self, image: np.ndarray, rows: np.ndarray, cols: np.ndarray,
+                 tick=None) -> np.ndarray:
         """Descriptors of the patches of a periodic ``image`` with top-left pixels
-        (rows, cols), arrays of one shape; (..., d)."""
+        (rows, cols), arrays of one shape; (..., d). The cell means are gathered ``CHUNK``
+        patches at a time (``tick()`` after each) and projected in one product (a product's
+        rows would change in their last bits with the chunks)."""
         cells = self._cell_means(image, periodic=True)
-        return self._project(cells, rows, cols).astype(np.float32)
+        shape = np.shape(rows)
+        rows, cols = np.ravel(rows), np.ravel(cols)
+        raw = np.empty((len(rows), self.mean.shape[0]), np.float32)
+        for s in range(0, len(rows), CHUNK):
+            sl = slice(s, s + CHUNK)
+            np.subtract(self._raw(cells, rows[sl], cols[sl]), self.mean, out=raw[sl])
+            if tick is not None:
+                tick()
+        return (raw @ self.basis).reshape(shape + (-1,))
 
 
 def _cost(features, target, flat, penalty):
@@ -132,8 +143,8 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
     patches' offset, measured around the torus. ``active`` = (gi, gj), the grid indices of the
     patches to improve (default: all), whose descriptors ``target`` (n, d) holds; the others keep
     their match and still propose it. ``penalty`` (h - p + 1, w - p + 1) is added to the
-    distance of each exemplar patch. ``tick()``, when given, is called after every round of
-    proposals (where a caller may cancel).
+    distance of each exemplar patch. ``tick()``, when given, is called after every ``CHUNK``
+    patches compared (where a caller may cancel).
     """
     hs, ws = features.shape
     gh, gw = nnf.shape[:2]
@@ -142,18 +153,24 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
     gi, gj = active
     grid = nnf[:, :, 0] * ws + nnf[:, :, 1]
     flat = grid[gi, gj]
-    cost = _cost(features, target, flat, penalty)
-
-    def consider(r, c):
-        nonlocal flat, cost
-        cand = np.clip(r, 0, hs - 1) * ws + np.clip(c, 0, ws - 1)
-        d = _cost(features, target, cand, penalty)
-        better = d < cost
-        flat = np.where(better, cand, flat)
-        cost = np.where(better, d, cost)
-        grid[gi, gj] = flat
+    cost = np.empty(len(flat), np.float32)
+    for s in range(0, len(flat), CHUNK):
+        sl = slice(s, s + CHUNK)
+        cost[sl] = _cost(features, target[sl], flat[sl], penalty)
         if tick is not None:
             tick()
+
+    def consider(r, c):
+        cand = np.clip(r, 0, hs - 1) * ws + np.clip(c, 0, ws - 1)
+        for s in range(0, len(cand), CHUNK):
+            sl = slice(s, s + CHUNK)
+            d = _cost(features, target[sl], cand[sl], penalty)
+            better = d < cost[sl]
+            flat[sl][better] = cand[sl][better]
+            cost[sl][better] = d[better]
+            if tick is not None:
+                tick()
+        grid[gi, gj] = flat
 
     for _ in range(iterations):
         for k in JUMPS:

@@ -92,13 +92,13 @@ def toroidal_gather(image: np.ndarray, rows, cols, offsets: np.ndarray, step: in
 
 
 def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: bool,
-                    outside: float, out: np.ndarray | None = None) -> np.ndarray:
+                    outside: float, out: np.ndarray | None = None, tick=None) -> np.ndarray:
     """Every exemplar pixel's row ``[X, Q]`` (float32, (H W + 1, K (C + 1)), the last row zero):
     X its neighbours ``exemplar[p + step u, q + step v]`` (K C values), Q their squared norms
     (K values); a neighbour outside the exemplar has X = 0 and Q = ``outside``. With ``wrap``
     every neighbour wraps. Filled a band of rows at a time, so each band stays in cache while
     every offset writes into it; ``out``, when given, is that array (reused across levels, which
-    spares the fresh pages of a new one)."""
+    spares the fresh pages of a new one); ``tick()``, when given, after each band."""
     h, w, c = exemplar.shape
     k = len(offsets)
     du, dv = (np.asarray(offsets) * step).T
@@ -122,6 +122,8 @@ def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: 
             src = slice(m[0] + du[j] + r0, m[0] + du[j] + r1), slice(m[1] + dv[j], m[1] + dv[j] + w)
             rows[r0:r1, :, j * c:(j + 1) * c] = x_pad[src]
             rows[r0:r1, :, k * c + j] = q_pad[src]
+        if tick is not None:
+            tick()
     return table
 
 

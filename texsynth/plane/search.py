@@ -1,36 +1,25 @@
 """Numerical search helpers shared by the texture fit and the combination with lines.
 
 Independent evaluations (a grid of hypotheses, the points of a finite-difference Hessian, the
-starts of a search) run on two threads: the criteria spend their time in numpy, which releases
-the interpreter lock, so a photo's estimate uses two cores. Results do not depend on it (each
-evaluation is the same pure function; results are gathered in order).
+starts of a search) run side by side on the shared pool (``texsynth.blocks.parallel``): the
+criteria spend their time in numpy, which releases the interpreter lock, so a photo's estimate
+uses every core. Results do not depend on it (each evaluation is the same pure function; results
+are gathered in order).
 """
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
 import scipy.optimize as opt
 
+from ..blocks import parallel
+
 __all__ = ["evaluate", "minimize", "minimize_then", "hessian"]
-
-_THREADS = max(1, min(2, os.cpu_count() or 1))
-
-
-def _map(fun, items) -> list:
-    """[fun(x) for x in items], on up to _THREADS threads."""
-    items = list(items)
-    if _THREADS == 1 or len(items) < 2:
-        return [fun(x) for x in items]
-    with ThreadPoolExecutor(_THREADS) as pool:
-        return list(pool.map(fun, items))
 
 
 def evaluate(fun, points) -> list[float]:
     """fun at each of ``points``, in order."""
-    return _map(fun, points)
+    return parallel.run(fun, points)
 
 
 def _nelder_mead(fun, x0, step):
@@ -43,7 +32,7 @@ def _nelder_mead(fun, x0, step):
 
 def minimize(fun, starts, step):
     """Nelder-Mead from each start; the best result (the first of equals)."""
-    results = _map(lambda x0: _nelder_mead(fun, x0, step), starts)
+    results = parallel.run(lambda x0: _nelder_mead(fun, x0, step), starts)
     best = results[0]
     for res in results[1:]:
         if res.fun < best.fun:
@@ -55,7 +44,7 @@ def minimize_then(fun, starts, step, then):
     """(best, then(best)) for best = minimize(fun, starts, step): ``then`` runs on each start's
     result as soon as it is found, on that start's thread (the same result, sooner on two
     cores than waiting for the best)."""
-    if _THREADS == 1 or len(starts) < 2:  # nothing to gain by running ``then`` on every start
+    if parallel.WORKERS < 2 or len(starts) < 2:  # nothing to gain by running ``then`` on each
         best = minimize(fun, starts, step)
         return best, then(best)
 
@@ -63,7 +52,7 @@ def minimize_then(fun, starts, step, then):
         res = _nelder_mead(fun, x0, step)
         return res, then(res)
 
-    results = _map(task, starts)
+    results = parallel.run(task, starts)
     best = results[0]
     for pair in results[1:]:
         if pair[0].fun < best[0].fun:

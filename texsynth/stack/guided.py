@@ -51,8 +51,9 @@ class _GuidedLevel:
         self.du = (step * offsets[:, 0]).astype(np.int32)
         self.dv = (step * offsets[:, 1]).astype(np.int32)
 
-    def visit(self, source, confidence, rows, cols, rng):
-        """One visit of the pixels (rows, cols) of B (none in another's neighbourhood)."""
+    def visit(self, source, confidence, rows, cols, rng, tick):
+        """One visit of the pixels (rows, cols) of B (none in another's neighbourhood);
+        ``tick()`` after each chunk of ``CHUNK`` pixels."""
         gh, gw = source.shape
         ra = (rows[:, None] + self.offsets_a[:, 0]) % gh
         ca = (cols[:, None] + self.offsets_a[:, 1]) % gw
@@ -67,6 +68,7 @@ class _GuidedLevel:
         for s in range(0, len(rows), self.CHUNK):
             sl = slice(s, s + self.CHUNK)
             out[sl] = self._best(nb[sl], nw[sl], oa[sl], pa[sl], current[sl], extra[sl])
+            tick()
         return out
 
     def _continue(self, positions, placed):
@@ -112,7 +114,7 @@ def guided_mrf(in_a, in_b, out_a, positions_a, rng, progress, c=C_SUPPORT, radiu
     shapes = grid_shapes(width, height, level_count(in_a.shape, width, height, radius, levels))
     flat_a = (positions_a[:, :, 0] * w + positions_a[:, :, 1]).astype(np.int32)
     return multigrid.synthesize_positions(
-        lambda lv: _GuidedLevel(in_a, in_b, out_a[::2 ** lv, ::2 ** lv],
+        lambda lv, tick: _GuidedLevel(in_a, in_b, out_a[::2 ** lv, ::2 ** lv],
                                 flat_a[::2 ** lv, ::2 ** lv], offsets, 2 ** lv, exemplar_tiles,
                                 random_candidates, c),
         h * w, shapes, visits, rng, progress)
