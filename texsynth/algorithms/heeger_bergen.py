@@ -102,12 +102,17 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     for it in range(iterations):
         for c in range(channels):
             message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
-            pw = pyr_output.analyze(image[c])
-            iterating((it + (c + 0.25) / channels) / iterations, message)
-            pw = match_subbands[c](pw)
-            iterating((it + (c + 0.5) / channels) / iterations, message)
-            match(pyr_output.synthesize(pw), pixels[c], out=image[c])
-            iterating((it + (c + 1) / channels) / iterations, message)
+
+            def tick(step, it=it, c=c, message=message):
+                """Progress within a step (a 4096^2 step runs for seconds): Esc is heard."""
+                iterating((it + (c + step) / channels) / iterations, message)
+
+            pw = pyr_output.analyze(image[c], lambda: tick(0.0))
+            tick(0.25)
+            pw = match_subbands[c](pw, lambda: tick(0.25))
+            tick(0.5)
+            match(pyr_output.synthesize(pw, lambda: tick(0.5)), pixels[c], out=image[c])
+            tick(1.0)
         if channels > 1:
             last = it == iterations - 1
             done = (it + 1) / iterations
@@ -125,11 +130,11 @@ class _BandMatch:
     def __init__(self, exemplar: Coefficients):
         self.targets = [TargetHistogram(band) for band in exemplar.arrays()]
 
-    def __call__(self, pw: Coefficients) -> Coefficients:
+    def __call__(self, pw: Coefficients, tick=None) -> Coefficients:
         """``pw`` matched in place (its bands are the analysis' own arrays), the bands side by
-        side on the cores, each on one."""
+        side on the cores, each on one; ``tick()`` after each."""
         run(lambda job: match(job[0], job[1], out=job[0]),
-            zip(pw.arrays(), self.targets, strict=True))
+            zip(pw.arrays(), self.targets, strict=True), tick)
         return pw
 
 
@@ -158,9 +163,11 @@ class _OrientedMatch:
             self.levels.append(JointTarget(w, bins) if work is not None else
                                [TargetHistogram(band) for band in w])
 
-    def __call__(self, pw: Coefficients) -> Coefficients:
+    def __call__(self, pw: Coefficients, tick=None) -> Coefficients:
         bands = []
         for j, level in enumerate(pw.bands):
+            if tick is not None:
+                tick()
             w = np.stack(level)
             if self.steering is not None:
                 theta = self.steering.optimal_angle(w)

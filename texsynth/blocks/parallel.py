@@ -37,16 +37,33 @@ def _executor() -> ThreadPoolExecutor:
         return _pool
 
 
-def run(function, items) -> list:
+def run(function, items, tick=None) -> list:
     """``[function(item) for item in items]``, the calls spread over the pool's threads.
 
     Called from inside the pool (a nested split), or with one item or one core, the calls run
-    in this thread, so nesting never waits on itself.
+    in this thread, so nesting never waits on itself. ``tick()``, if given, is called in this
+    thread as each result comes in (in order): a progress report, so a cancel raised there is
+    heard within one item; the items not yet started are then dropped.
     """
     items = list(items)
     if len(items) < 2 or WORKERS < 2 or getattr(_inside, "flag", False):
-        return [function(item) for item in items]
-    return list(_executor().map(function, items))
+        results = []
+        for item in items:
+            results.append(function(item))
+            if tick is not None:
+                tick()
+        return results
+    futures = [_executor().submit(function, item) for item in items]
+    try:
+        results = []
+        for future in futures:
+            results.append(future.result())
+            if tick is not None:
+                tick()
+        return results
+    finally:
+        for future in futures:
+            future.cancel()
 
 
 def ranges(n: int, smallest: int = 1 << 16) -> list[tuple[int, int]]:

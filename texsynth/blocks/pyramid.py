@@ -222,8 +222,8 @@ class SteerablePyramid:
         out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio * self.low_masks[j]
         return out
 
-    def analyze(self, image: np.ndarray) -> Coefficients:
-        """Subbands of a 2-D float image of this pyramid's shape."""
+    def analyze(self, image: np.ndarray, tick=None) -> Coefficients:
+        """Subbands of a 2-D float image of this pyramid's shape; ``tick()`` after each."""
         image = np.asarray(image, dtype=np.float32)
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
@@ -237,13 +237,14 @@ class SteerablePyramid:
             jobs += [(low, f, self.level_shapes[j], phase) for f in self.band_filters[j]]
             low = self._crop(low, j)
         jobs.append((low, None, self.level_shapes[self.scales], None))
-        arrays = run(_band_from_spectrum, jobs)
+        arrays = run(_band_from_spectrum, jobs, tick)
         k = self.orientations
         bands = [arrays[1 + j * k: 1 + (j + 1) * k] for j in range(self.scales)]
         return Coefficients(arrays[0], bands, arrays[-1])
 
-    def synthesize(self, coeffs: Coefficients) -> np.ndarray:
-        """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`)."""
+    def synthesize(self, coeffs: Coefficients, tick=None) -> np.ndarray:
+        """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`);
+        ``tick()`` after each group of subbands."""
         conj_phase = np.complex64(np.conj(self.phase))
         # jobs: the high-pass, each level's bands two by two (a fixed grouping), the low-pass
         jobs = [([coeffs.highpass], [self.hi0], None)]
@@ -253,7 +254,7 @@ class SteerablePyramid:
             groups.append(len(pairs))
             jobs += [(level[m:m + 2], filters[m:m + 2], conj_phase) for m in pairs]
         jobs.append(([coeffs.lowpass], [None], None))
-        spectra = run(_filtered_spectrum, jobs)
+        spectra = run(_filtered_spectrum, jobs, tick)
         low, start = spectra[-1], 1 + sum(groups)
         for j in reversed(range(self.scales)):
             start -= groups[j]
