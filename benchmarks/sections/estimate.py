@@ -201,8 +201,30 @@ def run(ctx) -> str:
             lines.append(f"| {lo:.2f}-{min(hi, 1.0):.2f} | {len(got)} | {np.median(e):.1f} | "
                          f"{np.percentile(e, 90):.1f} | "
                          f"{np.median([s['uncertainty'] for s in got]):.1f} |")
-    lines += ["", _no_cue(), "", _speed(items)]
+    lines += ["", _own_anisotropy(ctx, scores), "", _no_cue(), "", _speed(items)]
     return "\n".join(lines)
+
+
+def _own_anisotropy(ctx, scores) -> str:
+    """The shared textures' own anisotropy: the isotropy slant read on each texture's own photo,
+    seen frontally. Under orthography only isotropy gives the slant, so this bounds that figure."""
+    frontal = {t.name: plane.estimate_plane(t.image, method="isotropy").slant
+               for t in ctx.textures}
+    got = [(frontal[v.texture], s["error"]) for v, s in scores[FAMILIES[0], "ortho", "texsynth"]
+           if v.slant >= 20 and v.texture in frontal]
+    if not got:
+        return ""
+    reads = np.asarray(list(frontal.values()))
+    low = [e for f, e in got if f < 20]
+    high = [e for f, e in got if f >= 20]
+    return (f"**Own anisotropy** (the isotropy slant read on each of the {len(reads)} shared "
+            f"textures' own photo, frontal): {np.median(reads):.1f} deg median, "
+            f"{np.percentile(reads, 90):.1f} p90; {np.mean(reads >= 20) * 100:.0f} % read 20 deg "
+            f"or more. Orthographic views at slant >= 20: median error "
+            + (f"{np.median(low):.1f} ({len(low)} views)" if low else "- (0 views)")
+            + " where the texture reads under 20 deg, "
+            + (f"{np.median(high):.1f} ({len(high)} views)" if high else "- (0 views)")
+            + " where it reads more.")
 
 
 def _no_cue() -> str:

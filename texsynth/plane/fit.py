@@ -86,7 +86,8 @@ _WINDOW = 48         # analysis window side (reduced image px): 48 beat 32 and 6
 _W_MAX = 0.4         # highest image frequency used (cycles per pixel; Nyquist is 0.5)
 _MOMENT_W_MAX = 0.71  # the orthographic moment uses the whole periodogram, corners included
 _GROUPS = 8          # jackknife groups of windows for the moment estimate's uncertainty
-_MOMENT_FLOOR = 6.0  # deg: textures' own anisotropy, read as slant by the moment (slant >= 20)
+_MOMENT_FLOOR = 6.0  # deg: own anisotropy read as slant; measured ~10 (sd) at slant 20-70, but
+#                     a wider floor lets lines pull the fit off on weaves and bricks (issue 16)
 _NOISE_K = 16.0      # correlation of neighbouring bands and windows: dof / _NOISE_K independent
 _EVIDENCE = 0.5      # z-score a hypothesis must lose by to be ruled out (receding direction)
 _SYSTEMATIC = 3.0    # deg: floor on the uncertainty (model and rendering effects)
