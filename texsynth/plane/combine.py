@@ -9,6 +9,13 @@ beyond three sigmas): a texture fit the lines contradict, or a stray family, sto
 instead of dragging the estimate between them. The estimate minimises half their sum; its
 covariance is the inverse Hessian there, so directions that neither cue fixes stay uncertain.
 
+Two families are taken as orthogonal on the plane (Caprile & Torre 1990: bricks, tiles, weaves)
+only when the fit of their parallelism and the texture, without orthogonality, does not refute it
+(:func:`orthogonality_z`: the miss within ``_ORTHOGONAL_Z`` sigmas of its own uncertainty);
+otherwise they fix the vanishing line only (rhombic cells, diamond plates). Deviation: with the
+focal length unknown only the texture can refute orthogonality, so a non-orthogonal pair whose
+texture fit is loose is still taken as orthogonal.
+
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
 """
@@ -23,7 +30,7 @@ import numpy as np
 from .lines import LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
-__all__ = ["Combined", "combine", "st_covariance"]
+__all__ = ["Combined", "combine", "orthogonality_z", "st_covariance"]
 
 _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no perspective seen)
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
@@ -31,6 +38,7 @@ _WEAK = 1e-3     # the texture's weight while the line noise is calibrated
 _MAX_P = 12.0    # |p| = tan(slant) bound of the search (slant 85 deg)
 _W_LIMIT = 4.0   # w = side / f at most: f >= a quarter of the longer side (127 deg across it)
 _DETERMINED = 3.0  # deg: lines alone fixing the slant this well make the estimate line-based
+_ORTHOGONAL_Z = 3.0  # sigmas: two families missing orthogonality by more only fix the horizon
 
 
 @dataclass(frozen=True)
@@ -86,6 +94,24 @@ def _closed_form(found: list[Segments], side: float, focal: float | None) -> lis
     return [v * focal]
 
 
+def orthogonality_z(cost: LineCost, total, split, theta: np.ndarray) -> float:
+    """How many sigmas the two families miss orthogonality on the plane at ``theta``, the fit
+    of their parallelism and the texture (``total``) without it: the miss over its standard
+    deviation, from the fit's covariance (which the other cues narrow: a known focal length
+    and two finite vanishing points fix the plane alone), the noise of each family's mean
+    direction, and the texture's own (:meth:`~.lines.LineCost.orthogonality_variance`)."""
+    def miss(th):
+        return cost.residuals(*split(th))[1]
+
+    delta = miss(theta)
+    h = np.maximum(1e-4, 1e-3 * np.abs(theta))
+    grad = np.array([(miss(theta + e) - miss(theta - e)) / (2 * e[i])
+                     for i, e in enumerate(np.diag(h))])
+    cov = _inverse(hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta))))
+    var = float(grad @ cov @ grad) + cost.orthogonality_variance(*split(theta))
+    return abs(delta) / math.sqrt(var)
+
+
 def _inverse(hess: np.ndarray) -> np.ndarray:
     """Covariance from a finite-difference Hessian: curvature taken by its size (the robust
     losses and the differences can make a small one negative), none means unbounded."""
@@ -132,13 +158,19 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
 
     step = np.array([0.05, 0.05, 0.05][:len(theta_t)])
     starts = [theta_t, mirror, *_closed_form(cost.families, side, focal_given)]
+    cost.orthogonal = False  # calibrated and tested on parallelism alone
     alone = minimize(lambda th: bounded(th) + _WEAK * prior(th), starts, step)
     cost.calibrate(*split(alone.x))
 
     def total(theta):  # the uncertainty is this one's curvature: a bound is no evidence
         return lines(theta) + prior(theta)
 
-    best = minimize(lambda th: bounded(th) + prior(th), [*starts, alone.x], step)
+    starts.append(alone.x)
+    if len(cost.families) == 2:
+        free = minimize(lambda th: bounded(th) + prior(th), starts, step)
+        cost.orthogonal = orthogonality_z(cost, total, split, free.x) <= _ORTHOGONAL_Z
+        starts.append(free.x)
+    best = minimize(lambda th: bounded(th) + prior(th), starts, step)
     axis = best.x[:2] / max(np.linalg.norm(best.x[:2]), 1e-12)
     other = minimize(lambda th: bounded(th) + prior(th)
                      + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,

@@ -300,8 +300,9 @@ class LineCost:
     Each residual is a plane angle converted back to the image angle it comes from (divided by
     d(plane angle) / d(image angle) = det J / |J d|^2 at the segment): the noise is the image's,
     and a hypothesis cannot explain the lines by a slant so steep that it squeezes every
-    direction onto the tilt (the first-order form of the image-space error of Kosecka & Zhang
-    2002, sec. 3, and Tardif 2009, sec. 2)."""
+    direction onto the tilt. To first order this is the image-space consistency of Rother 2002
+    that :func:`families` uses: the angle between a segment and the line from its midpoint to
+    the hypothesis's vanishing point."""
 
     def __init__(self, found: list[Segments], orthogonal: bool = True):
         self.families = found
