@@ -10,11 +10,10 @@ instead of dragging the estimate between them. The estimate minimises half their
 covariance is the inverse Hessian there, so directions that neither cue fixes stay uncertain.
 
 Two families are taken as orthogonal on the plane (Caprile & Torre 1990: bricks, tiles, weaves)
-only when the fit of their parallelism and the texture, without orthogonality, does not refute it
-(:func:`orthogonality_z`: the miss within ``_ORTHOGONAL_Z`` sigmas of its own uncertainty);
-otherwise they fix the vanishing line only (rhombic cells, diamond plates). Deviation: with the
-focal length unknown only the texture can refute orthogonality, so a non-orthogonal pair whose
-texture fit is loose is still taken as orthogonal.
+only when imposing it does not cost the fit of their parallelism and the texture more than
+``_ORTHOGONAL_Z`` sigmas (:func:`orthogonality_chi2`); otherwise they fix the vanishing line
+only (rhombic cells). Deviation: with the focal length unknown only the texture can refute
+orthogonality, so a non-orthogonal pair whose texture fit is loose is still taken as orthogonal.
 
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
@@ -30,7 +29,7 @@ import numpy as np
 from .lines import LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
-__all__ = ["Combined", "combine", "orthogonality_z", "st_covariance"]
+__all__ = ["Combined", "combine", "orthogonality_chi2", "st_covariance"]
 
 _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no perspective seen)
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
@@ -94,22 +93,13 @@ def _closed_form(found: list[Segments], side: float, focal: float | None) -> lis
     return [v * focal]
 
 
-def orthogonality_z(cost: LineCost, total, split, theta: np.ndarray) -> float:
-    """How many sigmas the two families miss orthogonality on the plane at ``theta``, the fit
-    of their parallelism and the texture (``total``) without it: the miss over its standard
-    deviation, from the fit's covariance (which the other cues narrow: a known focal length
-    and two finite vanishing points fix the plane alone), the noise of each family's mean
-    direction, and the texture's own (:meth:`~.lines.LineCost.orthogonality_variance`)."""
-    def miss(th):
-        return cost.residuals(*split(th))[1]
-
-    delta = miss(theta)
-    h = np.maximum(1e-4, 1e-3 * np.abs(theta))
-    grad = np.array([(miss(theta + e) - miss(theta - e)) / (2 * e[i])
-                     for i, e in enumerate(np.diag(h))])
-    cov = _inverse(hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta))))
-    var = float(grad @ cov @ grad) + cost.orthogonality_variance(*split(theta))
-    return abs(delta) / math.sqrt(var)
+def orthogonality_chi2(free: float, orthogonal: float) -> float:
+    """The likelihood-ratio statistic of orthogonality: twice what the best fit of the
+    families' parallelism and the texture (half chi-squares ``free``) loses when the two families
+    must also be orthogonal on the plane (``orthogonal``); chi-square with one degree of freedom
+    when they are. It needs no linearisation: with the focal length unknown, a loose texture fit
+    can put the free fit at a slant where the miss is large and its linear sd meaningless."""
+    return 2.0 * max(orthogonal - free, 0.0)
 
 
 def _inverse(hess: np.ndarray) -> np.ndarray:
@@ -166,11 +156,14 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
         return lines(theta) + prior(theta)
 
     starts.append(alone.x)
-    if len(cost.families) == 2:
-        free = minimize(lambda th: bounded(th) + prior(th), starts, step)
-        cost.orthogonal = orthogonality_z(cost, total, split, free.x) <= _ORTHOGONAL_Z
-        starts.append(free.x)
     best = minimize(lambda th: bounded(th) + prior(th), starts, step)
+    if len(cost.families) == 2:
+        cost.orthogonal = True
+        square = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x], step)
+        if orthogonality_chi2(best.fun, square.fun) <= _ORTHOGONAL_Z ** 2:
+            best = square
+        else:
+            cost.orthogonal = False
     axis = best.x[:2] / max(np.linalg.norm(best.x[:2]), 1e-12)
     other = minimize(lambda th: bounded(th) + prior(th)
                      + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,

@@ -350,16 +350,6 @@ class LineCost:
             chi2 += float(robust((ortho / math.radians(_ORTHOGONAL_DEG)) ** 2))
         return chi2
 
-    def orthogonality_variance(self, p: np.ndarray, v: np.ndarray) -> float:
-        """Variance (plane radians^2) of the orthogonality residual at (p, v) for a fixed
-        plane: the noise of each family's mean direction and the texture's own
-        (``_ORTHOGONAL_DEG``)."""
-        var = math.radians(_ORTHOGONAL_DEG) ** 2
-        for (angle, gain), sigma in zip(self.angles(p, v), self.sigma, strict=True):
-            ok = np.isfinite(angle)
-            var += self.scale / max(float((1.0 / (gain[ok] * sigma[ok]) ** 2).sum()), 1e-300)
-        return var
-
     def calibrate(self, p: np.ndarray, v: np.ndarray) -> None:
         """Scale the segments' noise so that their median squared residual at (p, v) is that of
         a chi-square with one degree of freedom (never below the pixel noise of :func:`_noise`)."""
