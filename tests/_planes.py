@@ -116,3 +116,18 @@ def weave_texture(seed=0, n=512, cell=32):
     t = 0.2 * stripes + 0.02 * rng.standard_normal((n, n))
     t = np.where(((rows % cell) < 2) | ((cols % cell) < 2), -0.15, t)
     return ndi.spline_filter(t, order=3, mode="grid-wrap")
+
+
+def rhombus_texture(seed=0, n=512, rows=32, across=64):
+    """Periodic rhombic cells (n x n, prefiltered like :func:`noise_texture`): dark lines along
+    x every ``rows`` pixels, and along (1, 2) (63.4 deg from x) where 2 x - y is a multiple of
+    ``across``; each cell a random shade with fine noise. Two line families that are NOT
+    orthogonal on the plane (as the ridges of a diamond plate or a rhombic tiling)."""
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0:n, 0:n]
+    slanted = (2 * x - y) % n
+    index = (y // rows) * (n // across * 2 + 1) + slanted // across
+    shade = rng.uniform(-0.12, 0.12, index.max() + 1)[index]
+    joint = ((y % rows) < 3) | ((slanted % across) < 6)
+    t = np.where(joint, -0.25, shade + 0.03 * rng.standard_normal((n, n)))
+    return ndi.spline_filter(t, order=3, mode="grid-wrap")

@@ -9,6 +9,12 @@ beyond three sigmas): a texture fit the lines contradict, or a stray family, sto
 instead of dragging the estimate between them. The estimate minimises half their sum; its
 covariance is the inverse Hessian there, so directions that neither cue fixes stay uncertain.
 
+Two families are taken as orthogonal on the plane (Caprile & Torre 1990: bricks, tiles, weaves)
+only when imposing it does not cost the fit of their parallelism and the texture more than
+``_ORTHOGONAL_Z`` sigmas (:func:`orthogonality_chi2`); otherwise they fix the vanishing line
+only (rhombic cells). Deviation: with the focal length unknown only the texture can refute
+orthogonality, so a non-orthogonal pair whose texture fit is loose is still taken as orthogonal.
+
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
 """
@@ -23,7 +29,7 @@ import numpy as np
 from .lines import LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
-__all__ = ["Combined", "combine", "st_covariance"]
+__all__ = ["Combined", "combine", "orthogonality_chi2", "st_covariance"]
 
 _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no perspective seen)
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
@@ -31,6 +37,7 @@ _WEAK = 1e-3     # the texture's weight while the line noise is calibrated
 _MAX_P = 12.0    # |p| = tan(slant) bound of the search (slant 85 deg)
 _W_LIMIT = 4.0   # w = side / f at most: f >= a quarter of the longer side (127 deg across it)
 _DETERMINED = 3.0  # deg: lines alone fixing the slant this well make the estimate line-based
+_ORTHOGONAL_Z = 3.0  # sigmas: two families missing orthogonality by more only fix the horizon
 
 
 @dataclass(frozen=True)
@@ -86,6 +93,15 @@ def _closed_form(found: list[Segments], side: float, focal: float | None) -> lis
     return [v * focal]
 
 
+def orthogonality_chi2(free: float, orthogonal: float) -> float:
+    """The likelihood-ratio statistic of orthogonality: twice what the best fit of the
+    families' parallelism and the texture (half chi-squares ``free``) loses when the two families
+    must also be orthogonal on the plane (``orthogonal``); chi-square with one degree of freedom
+    when they are. It needs no linearisation: with the focal length unknown, a loose texture fit
+    can put the free fit at a slant where the miss is large and its linear sd meaningless."""
+    return 2.0 * max(orthogonal - free, 0.0)
+
+
 def _inverse(hess: np.ndarray) -> np.ndarray:
     """Covariance from a finite-difference Hessian: curvature taken by its size (the robust
     losses and the differences can make a small one negative), none means unbounded."""
@@ -132,13 +148,22 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
 
     step = np.array([0.05, 0.05, 0.05][:len(theta_t)])
     starts = [theta_t, mirror, *_closed_form(cost.families, side, focal_given)]
+    cost.orthogonal = False  # calibrated and tested on parallelism alone
     alone = minimize(lambda th: bounded(th) + _WEAK * prior(th), starts, step)
     cost.calibrate(*split(alone.x))
 
     def total(theta):  # the uncertainty is this one's curvature: a bound is no evidence
         return lines(theta) + prior(theta)
 
-    best = minimize(lambda th: bounded(th) + prior(th), [*starts, alone.x], step)
+    starts.append(alone.x)
+    best = minimize(lambda th: bounded(th) + prior(th), starts, step)
+    if len(cost.families) == 2:
+        cost.orthogonal = True
+        square = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x], step)
+        if orthogonality_chi2(best.fun, square.fun) <= _ORTHOGONAL_Z ** 2:
+            best = square
+        else:
+            cost.orthogonal = False
     axis = best.x[:2] / max(np.linalg.norm(best.x[:2]), 1e-12)
     other = minimize(lambda th: bounded(th) + prior(th)
                      + 1e4 * max(0.0, float(th[:2] @ axis)) ** 2,

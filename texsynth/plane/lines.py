@@ -293,34 +293,46 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
 
 class LineCost:
     """Robust chi-square of a plane hypothesis against the families: each family's
-    back-projected directions parallel, two families orthogonal; noise per segment from
-    :func:`_noise`, scaled by the scatter left at the best fit (``calibrate``)."""
+    back-projected directions parallel, two families orthogonal (unless ``orthogonal`` is False:
+    then the families only fix the vanishing line); noise per segment from :func:`_noise`, scaled
+    by the scatter left at the best fit (``calibrate``).
 
-    def __init__(self, found: list[Segments]):
+    Each residual is a plane angle converted back to the image angle it comes from (divided by
+    d(plane angle) / d(image angle) = det J / |J d|^2 at the segment): the noise is the image's,
+    and a hypothesis cannot explain the lines by a slant so steep that it squeezes every
+    direction onto the tilt. To first order this is the image-space consistency of Rother 2002
+    that :func:`families` uses: the angle between a segment and the line from its midpoint to
+    the hypothesis's vanishing point."""
+
+    def __init__(self, found: list[Segments], orthogonal: bool = True):
         self.families = found
         self.sigma = [_noise(f.length) for f in found]
         self.scale = 1.0
+        self.orthogonal = orthogonal
 
-    def angles(self, p: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
-        """Plane directions (radians mod pi) of each family's segments under (p, v)."""
+    def angles(self, p: np.ndarray, v: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Plane directions (radians mod pi) of each family's segments under (p, v), and their
+        sensitivity to the segments' image directions (d plane angle / d image angle)."""
         out = []
         for f in self.families:
             jac, g = jacobians(f.m, p, v)
             a = np.einsum("nij,nj->ni", jac, f.d)
             angle = np.arctan2(a[:, 1], a[:, 0])
-            out.append(np.where(g > 0.05, angle, np.nan))
+            gain = np.linalg.det(jac) / np.maximum((a * a).sum(axis=1), 1e-300)
+            out.append((np.where(g > 0.05, angle, np.nan), np.where(g > 0.05, gain, 1.0)))
         return out
 
     def residuals(self, p: np.ndarray, v: np.ndarray) -> tuple[list[np.ndarray], float | None]:
-        """Each family's angles about its mean (radians) and the orthogonality residual."""
+        """Each family's image-angle residuals (radians) about its plane direction, and the
+        orthogonality residual (plane radians; None for one family)."""
         means, out = [], []
-        for angle, length in zip(self.angles(p, v), (f.length for f in self.families),
-                                 strict=True):
+        for (angle, gain), sigma in zip(self.angles(p, v), self.sigma, strict=True):
             ok = np.isfinite(angle)
+            weight = np.where(ok, 1.0 / (gain * sigma) ** 2, 0.0)
             doubled = np.where(ok, 2.0 * angle, 0.0)
-            mean = 0.5 * math.atan2((np.sin(doubled) * length * ok).sum(),
-                                    (np.cos(doubled) * length * ok).sum())
-            out.append(np.where(ok, (angle - mean + math.pi / 2) % math.pi - math.pi / 2,
+            mean = 0.5 * math.atan2((np.sin(doubled) * weight).sum(),
+                                    (np.cos(doubled) * weight).sum())
+            out.append(np.where(ok, ((angle - mean + math.pi / 2) % math.pi - math.pi / 2) / gain,
                                 math.pi / 2))
             means.append(mean)
         ortho = None
@@ -334,7 +346,7 @@ class LineCost:
         residual, ortho = self.residuals(p, v)
         chi2 = sum(float(robust((r / s) ** 2 / self.scale).sum())
                    for r, s in zip(residual, self.sigma, strict=True))
-        if ortho is not None:
+        if ortho is not None and self.orthogonal:
             chi2 += float(robust((ortho / math.radians(_ORTHOGONAL_DEG)) ** 2))
         return chi2
 
