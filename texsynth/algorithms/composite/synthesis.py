@@ -77,7 +77,7 @@ MIN_SQUARE = 24
 #: Fewest cliques a candidate type needs in the exemplar to be modelled.
 MIN_PAIRS = 16
 #: Candidate types counted between two progress reports.
-CANDIDATE_GROUP = 32
+CANDIDATE_GROUP = 16
 #: Smallest exemplar side: segmentation and a label texture need room.
 MIN_EXEMPLAR = 16
 #: Upscaled label maps: rms displacement of the sampling points and its correlation length
@@ -249,7 +249,7 @@ def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int],
                 max_offset: int, distance: int, tick=None) -> tuple[list[Term], np.ndarray]:
     """Step 1 for class n: its own clique types and its interaction types, with the exemplar's
     normalised histograms and clique counts; types with fewer than ``MIN_PAIRS`` cliques are
-    left out. ``tick()``, when given, is called between groups of types."""
+    left out. ``tick()``, when given, is called before each group of types."""
     own = half_offsets(max_offset)
     near = half_offsets(distance) if distance >= 1 else np.zeros((0, 2), np.int32)
     spec = [(d, n, n) for d in own]
@@ -257,7 +257,7 @@ def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int],
         spec += [(d, n, m) for d in near] + [(d, m, n) for d in near]
     counts = []
     for a in range(0, len(spec), CANDIDATE_GROUP):
-        if tick is not None and a:
+        if tick is not None:
             tick()
         group = spec[a:a + CANDIDATE_GROUP]
         counts.append(difference_histograms(seen, [s[0] for s in group], span, False, labels,
@@ -321,6 +321,7 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                                             lo[k] + g * width, g)
                 stray = region & (start_labels != n)
                 synth[stray] = rng.choice(levels_k, size=int(stray.sum()), p=singleton)
+            part(0.4, "starting the synthesis")
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
                                out_labels, n, co.STEP,
                                lambda part=part: part(0.4, "counting cliques"))
