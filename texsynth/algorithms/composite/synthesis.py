@@ -175,11 +175,12 @@ def _downscale(labels: np.ndarray, f: int, classes: int) -> np.ndarray:
 
 
 def _upscale(labels: np.ndarray, height: int, width: int, classes: int,
-             rng: np.random.Generator) -> np.ndarray:
+             rng: np.random.Generator, tick) -> np.ndarray:
     """Periodic bilinear interpolation of each class's indicator, then the arg max, sampled at
     points moved by a smooth random periodic displacement (``SHIFT`` coarse pixels rms, over
     ``SHIFT_LENGTH`` coarse pixels): unshifted, every straight boundary falls between the same
-    two fine rows or columns of each coarse pixel, and so does the wrap."""
+    two fine rows or columns of each coarse pixel, and so does the wrap. ``tick()`` before each
+    class (a 2048^2 map takes a second)."""
     h, w = labels.shape
     y = (np.arange(height) + 0.5) * h / height - 0.5
     x = (np.arange(width) + 0.5) * w / width - 0.5
@@ -191,6 +192,7 @@ def _upscale(labels: np.ndarray, height: int, width: int, classes: int,
     best = np.full((height, width), -1.0)
     out = np.zeros((height, width), np.int32)
     for k in range(classes):
+        tick()
         v = ndimage.map_coordinates((labels == k).astype(np.float64), points, order=1,
                                     mode="grid-wrap")
         better = v > best
@@ -220,7 +222,10 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     shape = (-(-height // f), -(-width // f))
     marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
     out = model.channels[0].decode(marks, rng)
-    return _upscale(out, height, width, classes, rng) if f > 1 else out
+    if f == 1:
+        return out
+    return _upscale(out, height, width, classes, rng,
+                    lambda: report(1.0, "upscaling the label map"))
 
 
 # --- the subtextures --------------------------------------------------------------------------
