@@ -71,6 +71,8 @@ __all__ = ["heeger_bergen", "METHOD"]
 #: off-palette pixels 0.07% -> 0.09-0.11%, its subband distance unchanged.
 SLICES_PER_ITERATION = 2
 FINAL_SLICES = 30
+#: Rows turned back to the photo's colours at a time, on the cores, with progress between.
+BACK_ROWS = 256
 
 
 def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations=4,
@@ -96,8 +98,10 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands))
         setup(0.5 + 0.5 * (c + 1) / channels, "analysing the exemplar")
-    image = np.stack([match(noise[:, :, c], pixels[c]) for c in range(channels)])  # (C, H, W)
-    iterating(0.0, "matching the noise's histogram")
+    image = np.empty((channels, height, width), np.float32)
+    for c in range(channels):
+        match(noise[:, :, c], pixels[c], out=image[c])
+        iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
     for it in range(iterations):
         for c in range(channels):
@@ -120,8 +124,16 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
                                  FINAL_SLICES if last else SLICES_PER_ITERATION,
                                  progress.span(0.9, 1.0) if last else iterating.span(done, done))
 
-    result = pca.inverse(np.moveaxis(image, 0, -1))
-    return np.clip(result, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
+    result = np.empty((height, width, channels), np.float32)
+    lo, hi = exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1))
+
+    def back(a: int) -> None:
+        """Rows a.. back to the photo's colours, within its range (every pixel on its own)."""
+        b = slice(a, min(a + BACK_ROWS, height))
+        result[b] = np.clip(pca.inverse(np.moveaxis(image[:, b], 0, -1)), lo, hi)
+
+    run(back, range(0, height, BACK_ROWS), lambda: progress(1.0, "back to the photo's colours"))
+    return result
 
 
 class _BandMatch:
