@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from texsynth.blocks import parallel
-from texsynth.blocks.histogram import TargetHistogram, match
+from texsynth.blocks.histogram import SAMPLED, TargetHistogram, match, match_many, sample_step
 
 
 @pytest.fixture
@@ -78,3 +78,23 @@ def test_constant_source_goes_to_the_target_median():
 def test_empty_target_is_refused():
     with pytest.raises(ValueError, match="empty"):
         TargetHistogram(np.array([], np.float32))
+
+
+def test_large_sources_are_counted_on_a_lattice_not_on_columns():
+    assert sample_step(2 * SAMPLED - 1, 1024) == 1
+    for n, width in [(1 << 20, 1024), (1 << 22, 2048), (1 << 24, 4096), (3000 * 2000, 3000)]:
+        k = sample_step(n, width)
+        assert k >= n // SAMPLED and np.gcd(k, width) == 1
+        assert n // k >= SAMPLED // 2
+
+
+def test_matches_together_are_the_matches_alone(rng):
+    sources = [rng.laplace(size=shape).astype(np.float32) for shape in [(300, 200), (40, 30)]]
+    sources.append(np.full((50, 50), 2.0, np.float32))
+    targets = [TargetHistogram(rng.standard_normal(size).astype(np.float32) ** 3)
+               for size in (5000, 700, 90)]
+    outs = [np.empty_like(s) for s in sources]
+    match_many(sources, targets, outs)
+    for source, target, out in zip(sources, targets, outs, strict=True):
+        np.testing.assert_array_equal(out, match(source, target))
+    assert np.all(outs[2] == targets[2].quantile(0.5))

@@ -94,3 +94,22 @@ def test_analysis_and_synthesis_do_not_depend_on_the_number_of_threads(monkeypat
     for a, b in zip(split.arrays(), alone.arrays(), strict=True):
         np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(pyramid.synthesize(alone), again)
+
+
+def test_analysis_into_earlier_arrays_with_a_hook_on_each_band():
+    rng = np.random.default_rng(6)
+    first, second = (rng.random((200, 150), dtype=np.float32) for _ in range(2))
+    pyramid = SteerablePyramid(first.shape, 3, 4)
+    kept = pyramid.analyze(first)
+    seen = {}
+    again = pyramid.analyze(second, out=kept, each=lambda i, band: seen.setdefault(i, band))
+    assert again is kept
+    fresh = pyramid.analyze(second)
+    assert sorted(seen) == list(range(len(fresh.arrays())))
+    for i, (a, b) in enumerate(zip(again.arrays(), fresh.arrays(), strict=True)):
+        assert seen[i] is a
+        np.testing.assert_array_equal(a, b)
+    image = np.empty(first.shape, np.float32)
+    assert pyramid.synthesize(fresh, out=image) is image
+    np.testing.assert_array_equal(image, pyramid.synthesize(fresh))
+    assert np.abs(image - second).max() < 1e-5

@@ -39,9 +39,9 @@ Deviations, one line each:
   after the last, so the PCA components do not combine into colours the photo never had; the result
   is projected back and clipped to the exemplar's per-channel range;
 - joint matching bins by equal-count conditional bins (``texsynth.blocks.histogram``), not fixed.
-- a channel's subband matches, the subbands' transforms and the colour steps' matches run side by
-  side, the matches' value ranges and the colour steps' products by ranges, on every
-  core (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
+- each subband is matched by the thread that made it as soon as it is made, the subbands'
+  transforms side by side, the colour steps' matches and products by ranges, on every core
+  (``texsynth.blocks.parallel``), split so that the output does not depend on the number of
   cores.
 """
 
@@ -103,6 +103,7 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
         match(noise[:, :, c], pixels[c], out=image[c])
         iterating(0.0, "matching the noise's histogram")
     colours = components.reshape(-1, channels)
+    pw, synthesized = None, np.empty((height, width), np.float32)    # reused every step
     for it in range(iterations):
         for c in range(channels):
             message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
@@ -111,11 +112,10 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
                 """Progress within a step (a 4096^2 step runs for seconds): Esc is heard."""
                 iterating((it + (c + step) / channels) / iterations, message)
 
-            pw = pyr_output.analyze(image[c], lambda: tick(0.0))
-            tick(0.25)
-            pw = match_subbands[c](pw, lambda: tick(0.25))
+            pw = match_subbands[c].analyze(pyr_output, image[c], lambda: tick(0.25), pw)
             tick(0.5)
-            match(pyr_output.synthesize(pw, lambda: tick(0.5)), pixels[c], out=image[c])
+            pyr_output.synthesize(pw, lambda: tick(0.5), out=synthesized)
+            match(synthesized, pixels[c], out=image[c])
             tick(1.0)
         if channels > 1:
             last = it == iterations - 1
@@ -142,12 +142,13 @@ class _BandMatch:
     def __init__(self, exemplar: Coefficients):
         self.targets = [TargetHistogram(band) for band in exemplar.arrays()]
 
-    def __call__(self, pw: Coefficients, tick=None) -> Coefficients:
-        """``pw`` matched in place (its bands are the analysis' own arrays), the bands side by
-        side on the cores, each on one; ``tick()`` after each."""
-        run(lambda job: match(job[0], job[1], out=job[0]),
-            zip(pw.arrays(), self.targets, strict=True), tick)
-        return pw
+    def analyze(self, pyramid: SteerablePyramid, image: np.ndarray, tick,
+                out: Coefficients | None) -> Coefficients:
+        """The matched subbands of ``image`` (into ``out``): each band is matched in place by
+        the thread that made it, as soon as it is made (one core each, the bands side by
+        side); ``tick()`` after each."""
+        return pyramid.analyze(image, tick, out,
+                               lambda i, band: match(band, self.targets[i], out=band))
 
 
 class _OrientedMatch:
@@ -175,6 +176,12 @@ class _OrientedMatch:
             self.levels.append(JointTarget(w, bins) if work is not None else
                                [TargetHistogram(band) for band in w])
 
+    def analyze(self, pyramid: SteerablePyramid, image: np.ndarray, tick,
+                out: Coefficients | None) -> Coefficients:
+        """The subbands of ``image`` (into ``out``), then each level matched; ``tick()`` after
+        each band and level."""
+        return self(pyramid.analyze(image, tick, out), tick)
+
     def __call__(self, pw: Coefficients, tick=None) -> Coefficients:
         bands = []
         for j, level in enumerate(pw.bands):
@@ -198,9 +205,9 @@ class _OrientedMatch:
 
 def _memory(shape, width, height, params):
     """Output and noise (C floats), one channel's pyramid and spectra, 8 B per channel of
-    margin (the sliced transport's former copies; it now works in place), the synthesis'
-    subband spectra, all held at once while
-    they are computed side by side (about 26 B, counted 32), every channel's exemplar targets.
+    margin, the synthesis' subband spectra, every channel's exemplar targets; the pyramid's
+    kept work arrays and complex filters (tracemalloc: +30 B per output pixel at 1024^2 and
+    2048^2).
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
@@ -210,25 +217,26 @@ def _memory(shape, width, height, params):
     """
     k = params["orientations"]
     per_pixel = 24 * shape[2] + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
-    per_pixel += 32
+    per_pixel += 32 + 30
     per_pixel += (105 if params.get("joint") else 0) + (30 if params.get("steered") else 0)
     per_exemplar = 8 * (k * 4 / 3 + 6) + 36 * shape[2] + (16 * k if params.get("joint") else 0)
     return per_pixel * width * height + per_exemplar * shape[0] * shape[1] + 64 * BINS
 
 
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine (``texsynth.budget``). Per iteration, one pyramid analysis
-    and synthesis of the output and the histogram matching of each band (K + 1 band images of the
-    output's size per channel) against the exemplar's sorted values. Steered and joint matching:
-    factors 1.3 and 2, not fitted. The output's coefficient is 0.6 of the one fitted before the
-    work ran on both cores (same-sitting wall ratios at 1024^2: 0.53 and 0.67), then 0.75 of
-    that after the second speed-up (same-sitting at 2048^2: CPU 35.1 / 46.8 s, wall 70 / 92 s on
-    a loaded machine); to refit quiet."""
+    """Seconds on the reference machine (``texsynth.budget``): per iteration, one analysis and
+    synthesis of the output and the matching of its bands (output pixels x C x (K + 1)); once,
+    the exemplar's pyramids and sorted bands (exemplar pixels x C); each colour transport step's
+    sorted target projections and tables, a constant a step. Fitted on one quiet machine
+    (factor 0.29-0.32) at 512^2 to 4096^2 outputs: 1.6-1.9, 4.4 (5.1-5.4 from a 1024^2
+    exemplar), 13.5-15.0 and 53.5 s, all within 15 %. Steered and joint matching: factors 1.3
+    and 2, not fitted."""
     h, w, c = shape
-    k = params["orientations"]
-    per_iteration = 2.25e-8 * width * height * c * (k + 1) + 1.3e-6 * h * w * c
+    k, iterations = params["orientations"], params["iterations"]
     extra = (2.0 if params.get("joint") else 1.0) * (1.3 if params.get("steered") else 1.0)
-    return 0.02 + params["iterations"] * per_iteration * extra
+    steps = FINAL_SLICES + SLICES_PER_ITERATION * (iterations - 1) if c > 1 else 0
+    return (0.02 + iterations * 4.5e-8 * width * height * c * (k + 1) * extra
+            + 1.0e-6 * h * w * c + 0.038 * steps)
 
 
 METHOD = register(Method(

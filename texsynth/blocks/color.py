@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..progress import Progress
-from .histogram import STEP, TargetHistogram, match
+from .histogram import TargetHistogram, match_many
 from .parallel import ranges, run
 
 __all__ = ["ColorPCA", "sliced_transfer", "sliced_transfer_rows", "srgb_to_linear",
@@ -46,10 +46,19 @@ class ColorPCA:
         return cls(mean.astype(np.float32), basis.astype(np.float32))
 
     def forward(self, image: np.ndarray) -> np.ndarray:
-        return ((image - self.mean) @ self.basis).astype(np.float32)
+        return _mix("...c,ck->...k", np.asarray(image, np.float32) - self.mean, self.basis)
 
     def inverse(self, components: np.ndarray) -> np.ndarray:
-        return (components @ self.basis.T + self.mean).astype(np.float32)
+        x = _mix("...k,ck->...c", np.asarray(components, np.float32), self.basis)
+        x += self.mean
+        return x
+
+
+def _mix(subscripts: str, x: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """A product of float32 pixels by a small (C, C) matrix, single-threaded: OpenBLAS' threads
+    keep spinning after such a call and took 10 % of Heeger-Bergen's time at 2048^2 from the
+    cores' real work (``texsynth.blocks.steering`` found the same)."""
+    return np.einsum(subscripts, x, m.astype(np.float32, copy=False))
 
 
 def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
@@ -80,8 +89,8 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
     rounding), so the rows hold the projections p = R_s^T x from step to step: each step matches
     them in place and turns them into the next step's, ``p <- R_{s+1}^T R_s p``, and the last
     one turns them back, ``x = R_s p``: one (C, C) product per step. The products run in
-    cache-sized steps on every core, column by column, and the C matches side by side (the
-    result does not depend on the split)."""
+    cache-sized steps on every core, column by column, and the C matches together
+    (``match_many``; the result does not depend on the split)."""
     c = xt.shape[0]
     y = np.asarray(y, dtype=np.float32)
     yt = np.ascontiguousarray(y[:: -(-len(y) // TARGET_SAMPLES)].T)
@@ -89,8 +98,8 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
     for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0]
         _turn(xt, (basis.T @ previous).astype(np.float32))
-        targets = run(TargetHistogram, basis.T.astype(np.float32) @ yt)  # C sorts side by side
-        run(lambda job: match(job[0], job[1], out=job[0]), zip(xt, targets, strict=True))
+        targets = run(TargetHistogram, _mix("cn,ck->kn", yt, basis))  # C sorts side by side
+        match_many(xt, targets, xt)
         previous = basis
         if progress is not None:
             progress((step + 1) / steps, f"colour transport {step + 1}/{steps}")
@@ -98,21 +107,21 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
         _turn(xt, previous.astype(np.float32))
 
 
+#: Colours per step of :func:`_turn`: a step's (C, TURN_STEP) stays in cache.
+TURN_STEP = 1 << 16
+
+
 def _turn(x: np.ndarray, m: np.ndarray) -> None:
-    """``x = m @ x`` in place, for a small (C, C) ``m`` and (C, N) rows, range by range on the
-    cores."""
+    """``x = m @ x`` in place, for a small (C, C) ``m`` and (C, N) rows, step by step in cache
+    on every core (``np.einsum``'s own loop: half the time of one product a row and no BLAS)."""
     c = m.shape[0]
 
     def part(r):
-        turned = np.empty((c, min(STEP, r[1] - r[0])), np.float32)
-        term = np.empty_like(turned[0])
-        for a in range(r[0], r[1], STEP):
-            rows = x[:, a:min(a + STEP, r[1])]
+        turned = np.empty((c, min(TURN_STEP, r[1] - r[0])), np.float32)
+        for a in range(r[0], r[1], TURN_STEP):
+            rows = x[:, a:min(a + TURN_STEP, r[1])]
             out = turned[:, :rows.shape[1]]
-            for k in range(c):
-                np.multiply(rows[0], m[k, 0], out=out[k])
-                for i in range(1, c):
-                    out[k] += np.multiply(rows[i], m[k, i], out=term[:rows.shape[1]])
+            np.einsum("kc,cn->kn", m, rows, out=out)
             rows[...] = out
 
     run(part, ranges(x.shape[1]))

@@ -13,11 +13,13 @@ synthesis is the adjoint of analysis and reconstructs exactly (to float32 roundi
 
 Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
 - real FFTs (``rfft2``) and float32 / complex64 throughout (the masks are built in float64,
-  cos(theta - theta_m) as the projection of the unit frequency, no arctan2, and stored float32);
+  cos(theta - theta_m) as the projection of the unit frequency, no arctan2, and stored float32;
+  the band filters complex64 with their phase);
 - the inverse transforms of all subbands of an analysis, and the forward transforms of a
   synthesis (a level's bands two by two), run side by side on every core
   (``texsynth.blocks.parallel``), one core each, and are combined in a fixed order, so results
-  do not depend on the number of cores;
+  do not depend on the number of cores; the spectra and products live in work arrays kept from
+  call to call, and the transforms write into them (``texsynth.blocks.fft``);
 - radii are measured in cycles per pixel of the *full-resolution* grid, and each decimation crops
   the spectrum and rescales it by the ratio of sizes, so band values are samples of the same
   band-limited function whatever the image size. An exemplar and an output of different sizes
@@ -27,31 +29,15 @@ Deviations from pyrtools' ``SteerablePyramidFreq`` (same filters otherwise):
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.fft as sfft
 
-from .parallel import run, threads
+from . import fft
+from .parallel import run
 
 __all__ = ["SteerablePyramid", "LaplacianPyramid", "Coefficients", "max_scales", "pyramid_depth"]
-
-
-def _rfft2(image: np.ndarray, workers: int | None = None) -> np.ndarray:
-    """scipy's real FFT, on every core by default, on one inside the pool (rows and columns are
-    independent transforms, so the result does not depend on the number of threads)."""
-    return sfft.rfft2(image, workers=workers or threads())
-
-
-def _irfft2(spectrum: np.ndarray, s, workers: int | None = None,
-            overwrite: bool = False) -> np.ndarray:
-    """scipy's inverse real FFT, as its two passes: the columns' complex transform (in place in
-    ``spectrum`` when ``overwrite``), then the rows' real ones. Done in one call, scipy would
-    copy the spectrum into a fresh buffer every time (a third of the transform's time at
-    2048^2, most of it page faults)."""
-    workers = workers or threads()
-    columns = sfft.ifft(spectrum, axis=0, workers=workers, overwrite_x=overwrite)
-    return sfft.irfft(columns, n=s[1], axis=1, workers=workers, overwrite_x=True)
 
 
 def max_scales(shape: tuple[int, int]) -> int:
@@ -182,7 +168,7 @@ class SteerablePyramid:
         self.hi0, self.lo0 = _masks_by_rows(self.shape, self.shape, 2,
                                             lambda radius, fx, fy: _radial_masks(radius, 1.0))
         self.level_shapes = [self.shape]
-        self.band_filters: list[list[np.ndarray]] = []
+        self.band_filters: list[list[np.ndarray]] = []          # B_m of eq. 1, complex64
         self.low_masks: list[np.ndarray] = []
         self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
@@ -193,7 +179,9 @@ class SteerablePyramid:
                 return [*_band_filters(radius, fx, fy, high, orientations), low]
 
             *filters, low = _masks_by_rows(shape_j, self.shape, orientations + 1, fill)
-            self.band_filters.append(filters)
+            # B_m with its phase, complex64: one product a band (phase * F is exact)
+            self.band_filters.append([(f * np.complex64(self.phase)).astype(np.complex64)
+                                      for f in filters])
             child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
             self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
@@ -202,97 +190,182 @@ class SteerablePyramid:
             self.low_masks.append(low[self.crop_rows[j], : child[1] // 2 + 1])
             if progress is not None:
                 progress((j + 1) / scales, "building the pyramid's filters")
+        self._buffers: dict = {}
+
+    def _buffer(self, name, shape: tuple[int, int], dtype=np.complex64) -> np.ndarray:
+        """A work array of ``name`` for the calling thread, kept from call to call: fresh arrays
+        of many MB are fresh pages, and zeroing them took a tenth of the transforms' time."""
+        key = (name, shape, threading.get_ident())
+        buffer = self._buffers.get(key)
+        if buffer is None:
+            buffer = self._buffers[key] = np.empty(shape, dtype)
+        return buffer
+
+    def _halves(self, j: int) -> tuple[int, int, int]:
+        """Level j+1's rfft grid inside level j's: its ``n1`` rows of frequencies >= 0 are the
+        parent's first, its ``n2`` negative ones the parent's last, its ``columns`` the first."""
+        child = self.level_shapes[j + 1]
+        return (child[0] + 1) // 2, child[0] // 2, child[1] // 2 + 1
 
     # The low-pass spectrum of level j is zero beyond half its band, so cropping the rows and
     # columns of the lower frequencies loses nothing; scaling by the size ratio keeps values.
     def _crop(self, spectrum: np.ndarray, j: int) -> np.ndarray:
-        """The child's spectrum: ``spectrum`` L_j, cropped and rescaled."""
+        """The child's spectrum: ``spectrum`` L_j, cropped and rescaled (a kept buffer)."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
+        n1, n2, columns = self._halves(j)
         ratio = np.float32(child[0] * child[1] / (parent[0] * parent[1]))
-        cropped = spectrum[self.crop_rows[j], : child[1] // 2 + 1]
+        cropped = self._buffer("low", (child[0], columns))
+        cropped[:n1] = spectrum[:n1, :columns]
+        cropped[n1:] = spectrum[parent[0] - n2:, :columns]
         cropped *= self.low_masks[j]
         cropped *= ratio
         return cropped
 
-    def _embed(self, spectrum: np.ndarray, j: int) -> np.ndarray:
-        """The adjoint of :meth:`_crop`: the child's spectrum rescaled, embedded, times L_j."""
+    def _embed_into(self, total: np.ndarray, spectrum: np.ndarray, j: int,
+                    by_rows: bool = False) -> None:
+        """The adjoint of :meth:`_crop` added to ``total``: the child's ``spectrum`` (which it
+        overwrites) rescaled, times L_j, added at its frequencies (``by_rows``: row blocks on
+        the cores)."""
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
-        out = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
+        n1, n2, columns = self._halves(j)
         ratio = np.float32(parent[0] * parent[1] / (child[0] * child[1]))
-        out[self.crop_rows[j], : child[1] // 2 + 1] = spectrum * ratio * self.low_masks[j]
-        return out
 
-    def analyze(self, image: np.ndarray, tick=None) -> Coefficients:
-        """Subbands of a 2-D float image of this pyramid's shape; ``tick()`` after each."""
+        def embed(r: slice) -> None:
+            block = spectrum[r]
+            block *= ratio
+            block *= self.low_masks[j][r]
+            # child rows r hold the parent's rows r (frequencies >= 0) or r + parent - child
+            shift = 0 if r.start < n1 else parent[0] - child[0]
+            target = total[r.start + shift:r.stop + shift, :columns]
+            np.add(target, block, out=target)
+
+        blocks = [slice(0, n1), slice(n1, child[0])]
+        if by_rows:
+            blocks = [slice(a, min(a + ROWS, b.stop)) for b in blocks
+                      for a in range(b.start, b.stop, ROWS)]
+            run(embed, blocks)
+        else:
+            for block in blocks:
+                embed(block)
+
+    def band_shapes(self) -> list[tuple[int, int]]:
+        """Shapes of the subbands, in the order of :meth:`Coefficients.arrays`."""
+        levels = (s for s in self.level_shapes[:-1] for _ in range(self.orientations))
+        return [self.shape, *levels, self.level_shapes[-1]]
+
+    def analyze(self, image: np.ndarray, tick=None, out: Coefficients | None = None,
+                each=None) -> Coefficients:
+        """Subbands of a 2-D float image of this pyramid's shape; ``tick()`` after each. With
+        ``out`` (an earlier analysis of this pyramid), its arrays are overwritten and returned.
+        ``each(i, band)``, if given, runs on subband i (the order of
+        :meth:`Coefficients.arrays`) in the thread that made it, as soon as it is made."""
         image = np.asarray(image, dtype=np.float32)
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
-        spectrum = _rfft2(image)
+        if out is None:
+            k = self.orientations
+            arrays = [np.empty(s, np.float32) for s in self.band_shapes()]
+            out = Coefficients(arrays[0], [arrays[1 + j * k: 1 + (j + 1) * k]
+                                           for j in range(self.scales)], arrays[-1])
+        bands = out.arrays()
+        spectrum = fft.rfft2(image, out=self._buffer("spectrum", _half(self.shape)))
         # every band's spectrum is a cheap product; their inverse transforms are the work
-        # every band shares the phase (-i)^(K-1), a unit in {1, -i, -1, i}: exact in any order
-        phase = np.complex64(self.phase)
-        jobs = [(spectrum, self.hi0, self.shape, None)]
-        low = spectrum * self.lo0
+        jobs = [(spectrum, self.hi0)]
+        low = self._buffer("low", _half(self.shape))
+        _by_rows(lambda r: np.multiply(spectrum[r], self.lo0[r], out=low[r]), self.shape[0])
         for j in range(self.scales):
-            jobs += [(low, f, self.level_shapes[j], phase) for f in self.band_filters[j]]
+            jobs += [(low, f) for f in self.band_filters[j]]
             low = self._crop(low, j)
-        jobs.append((low, None, self.level_shapes[self.scales], None))
-        arrays = run(_band_from_spectrum, jobs, tick)
-        k = self.orientations
-        bands = [arrays[1 + j * k: 1 + (j + 1) * k] for j in range(self.scales)]
-        return Coefficients(arrays[0], bands, arrays[-1])
+        jobs.append((low, None))
+        run(self._band, [(i, job, band, each) for i, (job, band)
+                         in enumerate(zip(jobs, bands, strict=True))], tick)
+        return out
 
-    def synthesize(self, coeffs: Coefficients, tick=None) -> np.ndarray:
-        """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`);
-        ``tick()`` after each group of subbands."""
-        conj_phase = np.complex64(np.conj(self.phase))
+    def _band(self, job) -> None:
+        """One subband: the spectrum times its filter (if any), back to pixels into the band,
+        on one core."""
+        i, (spectrum, f), band, each = job
+        if f is not None:
+            spectrum = np.multiply(spectrum, f, out=self._buffer("product", f.shape))
+        fft.irfft2(spectrum, band.shape, out=band, workers=1)
+        if each is not None:
+            each(i, band)
+
+    def synthesize(self, coeffs: Coefficients, tick=None, out: np.ndarray | None = None
+                   ) -> np.ndarray:
+        """The image whose analysis gives ``coeffs`` (the adjoint of :meth:`analyze`), into
+        ``out`` (float32, this pyramid's shape) or a new array; ``tick()`` after each group of
+        subbands."""
+        # The adjoint takes conj(B_m) = sign B_m, sign = (-1)^(K-1) (the phase's square): the
+        # sums below run on sign times the spectra, the sign applied to the low-pass and at the
+        # end (exact).
+        sign = np.float32(-1.0 if self.orientations % 2 == 0 else 1.0)
         # jobs: the high-pass, each level's bands two by two (a fixed grouping), the low-pass
-        jobs = [([coeffs.highpass], [self.hi0], None)]
+        jobs = [([coeffs.highpass], [self.hi0])]
         groups = []
         for level, filters in zip(coeffs.bands, self.band_filters, strict=True):
             pairs = range(0, len(level), 2)
             groups.append(len(pairs))
-            jobs += [(level[m:m + 2], filters[m:m + 2], conj_phase) for m in pairs]
-        jobs.append(([coeffs.lowpass], [None], None))
-        spectra = run(_filtered_spectrum, jobs, tick)
+            jobs += [(level[m:m + 2], filters[m:m + 2]) for m in pairs]
+        jobs.append(([coeffs.lowpass], [None]))
+        totals = [self._buffer(("total", i), _half(bands[0].shape))
+                  for i, (bands, _) in enumerate(jobs)]
+        spectra = run(self._filtered_spectrum, zip(jobs, totals, strict=True), tick)
         low, start = spectra[-1], 1 + sum(groups)
-        for j in reversed(range(self.scales)):
+        low *= sign
+        for j in reversed(range(1, self.scales)):
             start -= groups[j]
-            low = self._embed(low, j)
-            for partial in spectra[start:start + groups[j]]:
-                low += partial
-        low *= self.lo0
-        low += spectra[0]
-        return _irfft2(low, s=self.shape, overwrite=True).astype(np.float32, copy=False)
+            total = spectra[start]
+            self._embed_into(total, low, j)
+            for partial in spectra[start + 1:start + groups[j]]:
+                total += partial
+            low = total
+        # level 0 and the residuals at full size: one pass, row blocks on the cores
+        level = spectra[1:1 + groups[0]] if self.scales else [low]
+        total = level[0]
+        if self.scales:
+            self._embed_into(total, low, 0, by_rows=True)
+
+        def finish(r: slice) -> None:
+            block = total[r]
+            for partial in level[1:]:
+                block += partial[r]
+            block *= self.lo0[r]
+            if sign < 0:
+                np.subtract(spectra[0][r], block, out=block)
+            else:
+                block += spectra[0][r]
+
+        _by_rows(finish, self.shape[0])
+        return fft.irfft2(total, self.shape, out=out)
+
+    def _filtered_spectrum(self, job) -> np.ndarray:
+        """Sum of a few subbands' spectra times their filters (``None``: none), into ``total``,
+        on one core."""
+        (bands, filters), total = job
+        for k, (band, f) in enumerate(zip(bands, filters, strict=True)):
+            spectrum = fft.rfft2(band, workers=1, out=total if k == 0 else
+                                 self._buffer("product", total.shape))
+            if f is not None:
+                spectrum *= f
+            if k:
+                total += spectrum
+        return total
 
 
-def _band_from_spectrum(job) -> np.ndarray:
-    """One subband: the spectrum times its filter and phase (if any), back to pixels, on one
-    core."""
-    spectrum, f, shape, phase = job
-    if f is not None:
-        spectrum = spectrum * f
-    if phase is not None and phase != 1:
-        spectrum *= phase
-    return _irfft2(spectrum, s=shape, workers=1, overwrite=f is not None)
+#: Rows of a spectrum per block of the elementwise passes run on the cores (cache-sized).
+ROWS = 128
 
 
-def _filtered_spectrum(job) -> np.ndarray:
-    """Sum of a few subbands' spectra times their filters (``None``: none), times ``phase``
-    (``None``: 1), on one core."""
-    bands, filters, phase = job
-    total = None
-    for band, f in zip(bands, filters, strict=True):
-        spectrum = _rfft2(np.asarray(band, dtype=np.float32), workers=1)
-        if f is not None:
-            spectrum *= f
-        if total is None:
-            total = spectrum
-        else:
-            total += spectrum
-    if phase is not None:
-        total *= phase
-    return total
+def _by_rows(function, rows: int) -> None:
+    """``function(slice)`` on blocks of ``ROWS`` rows, on every core (elementwise work: the
+    split changes nothing)."""
+    run(function, [slice(a, min(a + ROWS, rows)) for a in range(0, rows, ROWS)])
+
+
+def _half(shape: tuple[int, int]) -> tuple[int, int]:
+    """The rfft grid of an image of ``shape``."""
+    return shape[0], shape[1] // 2 + 1
 
 
 # --- Laplacian pyramid ------------------------------------------------------------------------
@@ -337,24 +410,24 @@ class LaplacianPyramid:
         image = np.asarray(image, dtype=np.float32)
         if image.shape != self.shape:
             raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
-        spectrum = _rfft2(image)
+        spectrum = fft.rfft2(image)
         levels = []
         for j in range(self.scales):
             low = spectrum * self.low_masks[j]
-            levels.append(_irfft2(spectrum - low, s=self.level_shapes[j]))
+            levels.append(fft.irfft2(spectrum - low, self.level_shapes[j]))
             child = self.level_shapes[j + 1]
             spectrum = low[self.crop_rows[j], : child[1] // 2 + 1] * self._ratio(j)
-        levels.append(_irfft2(spectrum, s=self.level_shapes[self.scales]))
+        levels.append(fft.irfft2(spectrum, self.level_shapes[self.scales]))
         return levels
 
     def synthesize(self, levels: list[np.ndarray]) -> np.ndarray:
         """Algorithm 11.2: from the coarsest level, upsample and add each finer level."""
-        spectrum = _rfft2(np.asarray(levels[-1], dtype=np.float32))
+        spectrum = fft.rfft2(levels[-1])
         for j in reversed(range(self.scales)):
             parent, child = self.level_shapes[j], self.level_shapes[j + 1]
             up = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
             up[self.crop_rows[j], : child[1] // 2 + 1] = spectrum / self._ratio(j)
-            spectrum = up + _rfft2(np.asarray(levels[j], dtype=np.float32))
-        return _irfft2(spectrum, s=self.shape).astype(np.float32, copy=False)
+            spectrum = up + fft.rfft2(levels[j])
+        return fft.irfft2(spectrum, self.shape)
 
 
