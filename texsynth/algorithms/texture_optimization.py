@@ -169,7 +169,8 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
              else fixed_image.reshape(-1, c).copy())
     for s in range(0, hh * ww, CHUNK):
         sl = slice(s, s + CHUNK)
-        image[sl][covered[sl]] = total[sl][covered[sl]] / norm[sl][covered[sl], None]
+        done = covered[sl]
+        image[sl][done] = total[sl][done] / norm[sl][done, None]
         tick()
     return image.reshape(hh, ww, c)
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..progress import Progress
 from .histogram import TargetHistogram, match_many
-from .parallel import ranges, run
+from .parallel import ranges, run, small_product
 
 __all__ = ["ColorPCA", "sliced_transfer", "sliced_transfer_rows", "srgb_to_linear",
            "linear_to_srgb"]
@@ -46,19 +46,13 @@ class ColorPCA:
         return cls(mean.astype(np.float32), basis.astype(np.float32))
 
     def forward(self, image: np.ndarray) -> np.ndarray:
-        return _mix("...c,ck->...k", np.asarray(image, np.float32) - self.mean, self.basis)
+        return small_product("...c,ck->...k", np.asarray(image, np.float32) - self.mean,
+                             self.basis)
 
     def inverse(self, components: np.ndarray) -> np.ndarray:
-        x = _mix("...k,ck->...c", np.asarray(components, np.float32), self.basis)
+        x = small_product("...k,ck->...c", np.asarray(components, np.float32), self.basis)
         x += self.mean
         return x
-
-
-def _mix(subscripts: str, x: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """A product of float32 pixels by a small (C, C) matrix, single-threaded: OpenBLAS' threads
-    keep spinning after such a call and took 10 % of Heeger-Bergen's time at 2048^2 from the
-    cores' real work (``texsynth.blocks.steering`` found the same)."""
-    return np.einsum(subscripts, x, m.astype(np.float32, copy=False))
 
 
 def sliced_transfer(x: np.ndarray, y: np.ndarray, rng: np.random.Generator,
@@ -98,7 +92,8 @@ def sliced_transfer_rows(xt: np.ndarray, y: np.ndarray, rng: np.random.Generator
     for step in range(steps):
         basis = np.linalg.qr(rng.standard_normal((c, c)))[0]
         _turn(xt, (basis.T @ previous).astype(np.float32))
-        targets = run(TargetHistogram, _mix("cn,ck->kn", yt, basis))  # C sorts side by side
+        projected = small_product("cn,ck->kn", yt, basis.astype(np.float32))
+        targets = run(TargetHistogram, projected)                      # C sorts side by side
         match_many(xt, targets, xt)
         previous = basis
         if progress is not None:

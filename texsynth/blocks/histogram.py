@@ -138,8 +138,7 @@ def _count(item):
 
 
 def _look_up(item):
-    job, r = item
-    job.apply(job.flat[r[0]:r[1]], job.result[r[0]:r[1]])
+    item[0].look_up(item[1])
 
 
 def sample_step(n: int, width: int) -> int:
@@ -210,12 +209,11 @@ class _Matching:
         self.table = self.target.quantile(
             (below + 0.5 * (counts - 1)) / max(int(counts.sum()) - 1, 1))
 
-    def apply(self, values: np.ndarray, out: np.ndarray) -> None:
-        """``out`` = the table's value for each value's bin (1-D float32 arrays; ``out`` may
-        be ``values``)."""
-        for a in range(0, values.size, STEP):
-            b = min(a + STEP, values.size)
-            np.take(self.table, self.index(values[a:b]), out=out[a:b], mode="clip")
+    def look_up(self, r: tuple[int, int]) -> None:
+        """The results in ``r``: the table's value for each value's bin."""
+        for a in range(r[0], r[1], STEP):
+            b = min(a + STEP, r[1])
+            np.take(self.table, self.index(self.flat[a:b]), out=self.result[a:b], mode="clip")
 
 
 # --- Multidimensional histogram matching (Van De Ville et al. 2009, section 2.3)

@@ -69,24 +69,28 @@ def _grid(shape_level: tuple[int, int], shape_full: tuple[int, int],
     return radius, fx, fy
 
 
-#: Rows of the frequency grid per block while masks are built: a block's float64 temporaries
-#: stay in cache, and the blocks run on every core.
-MASK_ROWS = 32
+#: Rows of a spectrum per block of the elementwise passes run on the cores (cache-sized), and
+#: of the frequency grid while masks are built (their float64 temporaries stay in cache).
+ROWS, MASK_ROWS = 128, 32
+
+
+def _by_rows(function, rows: int, size: int = ROWS) -> None:
+    """``function(slice)`` on blocks of ``size`` rows, on every core (elementwise work: the
+    split changes nothing)."""
+    run(function, [slice(a, min(a + size, rows)) for a in range(0, rows, size)])
 
 
 def _masks_by_rows(shape_level, shape_full, count: int, fill) -> list[np.ndarray]:
     """``count`` float32 masks on a level's rfft grid, each (h, w // 2 + 1), filled block of
-    rows by block: ``fill(radius, fx, fy)`` gives the block's ``count`` masks (elementwise, so
-    the blocks' split changes nothing)."""
+    rows by block: ``fill(radius, fx, fy)`` gives the block's ``count`` masks."""
     h, w = shape_level
     out = [np.empty((h, w // 2 + 1), np.float32) for _ in range(count)]
 
-    def block(a: int) -> None:
-        rows = slice(a, min(a + MASK_ROWS, h))
+    def block(rows: slice) -> None:
         for k, mask in enumerate(fill(*_grid(shape_level, shape_full, rows))):
             out[k][rows] = mask
 
-    run(block, range(0, h, MASK_ROWS))
+    _by_rows(block, h, MASK_ROWS)
     return out
 
 
@@ -170,7 +174,6 @@ class SteerablePyramid:
         self.level_shapes = [self.shape]
         self.band_filters: list[list[np.ndarray]] = []          # B_m of eq. 1, complex64
         self.low_masks: list[np.ndarray] = []
-        self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
             shape_j = self.level_shapes[-1]
 
@@ -182,12 +185,11 @@ class SteerablePyramid:
             # B_m with its phase, complex64: one product a band (phase * F is exact)
             self.band_filters.append([(f * np.complex64(self.phase)).astype(np.complex64)
                                       for f in filters])
-            child = ((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2)
-            ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
-            self.crop_rows.append(np.where(ky >= 0, ky, shape_j[0] + ky))
-            self.level_shapes.append(child)
+            self.level_shapes.append(((shape_j[0] + 1) // 2, (shape_j[1] + 1) // 2))
             # L_j is zero outside the crop (below): only its cropped part is ever used
-            self.low_masks.append(low[self.crop_rows[j], : child[1] // 2 + 1])
+            n1, n2, columns = self._halves(j)
+            self.low_masks.append(np.concatenate([low[:n1, :columns],
+                                                  low[shape_j[0] - n2:, :columns]]))
             if progress is not None:
                 progress((j + 1) / scales, "building the pyramid's filters")
         self._buffers: dict = {}
@@ -351,16 +353,6 @@ class SteerablePyramid:
             if k:
                 total += spectrum
         return total
-
-
-#: Rows of a spectrum per block of the elementwise passes run on the cores (cache-sized).
-ROWS = 128
-
-
-def _by_rows(function, rows: int) -> None:
-    """``function(slice)`` on blocks of ``ROWS`` rows, on every core (elementwise work: the
-    split changes nothing)."""
-    run(function, [slice(a, min(a + ROWS, rows)) for a in range(0, rows, ROWS)])
 
 
 def _half(shape: tuple[int, int]) -> tuple[int, int]:

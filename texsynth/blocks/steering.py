@@ -38,6 +38,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .parallel import small_product
+
 __all__ = ["Steering", "steering_kernels"]
 
 #: Positions per block in the angle search, so that its (M, block) samples stay in cache.
@@ -106,7 +108,7 @@ class Steering:
         """
         w = np.asarray(w, np.float32)
         phi = np.broadcast_to(np.asarray(phi, np.float32), w.shape[1:]).reshape(-1)
-        a = _mix(self.analyse, w.reshape(self.orientations, -1))
+        a = small_product("mk,kp->mp", self.analyse, w.reshape(self.orientations, -1))
         for ic, is_, n in self._pairs:
             angle = n * phi
             cos_n, sin_n = np.cos(angle), np.sin(angle)
@@ -115,7 +117,7 @@ class Steering:
             a[ic] += a[is_] * sin_n
             a[is_] *= cos_n
             a[is_] -= big_a * sin_n
-        return _mix(self.evaluate, a).reshape(w.shape)
+        return small_product("mk,kp->mp", self.evaluate, a).reshape(w.shape)
 
     def response(self, w: np.ndarray, phi) -> np.ndarray:
         """r(phi): the response of the filter turned to ``phi`` (eq. 2), per position."""
@@ -129,7 +131,7 @@ class Steering:
             theta = np.zeros(flat.shape[1], np.float32)
         elif len(self._pairs) == 1:                       # K = 2, 3: closed form
             ic, is_, n = self._pairs[0]
-            a = _mix(self.analyse[[ic, is_]], flat)
+            a = small_product("mk,kp->mp", self.analyse[[ic, is_]], flat)
             theta = np.arctan2(a[1], a[0]) / n
         else:                                             # in chunks that stay in cache
             theta = np.empty(flat.shape[1], np.float32)
@@ -148,14 +150,14 @@ class Steering:
         convergence leaves an angle error around 1e-3 rad (r within 1e-5 of its peak).
         """
         even = self.orientations % 2 == 0
-        samples = _mix(self._samples, w)                         # (M, P) responses
+        samples = small_product("mk,kp->mp", self._samples, w)       # (M, P) responses
         if even:
             np.abs(samples, out=samples)
         best = _argmax_rows(samples, signed=not even).astype(np.intp)
         del samples
         # r and its derivatives at the sample, harmonic by harmonic: with u = A cos + B sin and
         # v = B cos - A sin at n phi, r^(j) sums n^j (u, v, -u, -v)[j]
-        a = _mix(self.analyse, w)
+        a = small_product("mk,kp->mp", self.analyse, w)
         r0, r1, r2, r3 = (np.zeros(w.shape[1], np.float32) for _ in range(4))
         for (ic, is_, n), cos_table, sin_table in zip(self._pairs, self._cos, self._sin,
                                                       strict=True):
@@ -182,12 +184,6 @@ class Steering:
         if even:                                          # even K has no constant harmonic
             theta += np.float32(np.pi) * (r0 < 0)
         return theta
-
-
-def _mix(matrix: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """``matrix @ w`` for a small (M, K) matrix and (K, P) bands, single-threaded: BLAS threads
-    cost more than they save at these shapes (2x the CPU time on 2 shared cores)."""
-    return np.einsum("mk,kp->mp", matrix, w)
 
 
 def _argmax_rows(values: np.ndarray, signed: bool = True) -> np.ndarray:

@@ -115,6 +115,6 @@ def guided_mrf(in_a, in_b, out_a, positions_a, rng, progress, c=C_SUPPORT, radiu
     flat_a = (positions_a[:, :, 0] * w + positions_a[:, :, 1]).astype(np.int32)
     return multigrid.synthesize_positions(
         lambda lv, tick: _GuidedLevel(in_a, in_b, out_a[::2 ** lv, ::2 ** lv],
-                                flat_a[::2 ** lv, ::2 ** lv], offsets, 2 ** lv, exemplar_tiles,
-                                random_candidates, c),
+                                      flat_a[::2 ** lv, ::2 ** lv], offsets, 2 ** lv,
+                                      exemplar_tiles, random_candidates, c),
         h * w, shapes, visits, rng, progress)
