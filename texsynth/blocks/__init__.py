@@ -1,0 +1,1 @@
+"""Building blocks several methods share (see docs/ARCHITECTURE.md, "The layout")."""
