@@ -23,7 +23,7 @@ from . import budget, validation
 from .algorithms.texture_optimization import METHOD, optimize
 from .progress import Progress
 
-__all__ = ["make_tileable", "make_tileable_positions", "default_band"]
+__all__ = ["make_tileable", "make_tileable_positions", "default_band", "predict"]
 
 #: Patch descriptor (cells, dims): coarser than the method's default, for seconds at 1024^2.
 DESCRIPTOR = (4, 16)
@@ -45,6 +45,16 @@ def _widest(shape) -> int:
     changed = b (h + w) - b^2 <= MAX_CHANGED h w."""
     h, w = shape[:2]
     return int(((h + w) - np.sqrt((h + w) ** 2 - 4 * MAX_CHANGED * h * w)) / 2)
+
+
+def predict(shape, band: int | None = None) -> tuple[float, float]:
+    """(seconds on this machine, peak bytes) predicted for :func:`make_tileable` of a photo of
+    ``shape`` (H, W[, C]) with ``band`` (default :func:`default_band`), at the default
+    settings: what the budgets check and the Blender panel shows."""
+    shape = tuple(shape) if len(shape) == 3 else (*shape[:2], 1)
+    h, w = shape[:2]
+    values = METHOD.resolve({})
+    return (budget.predict(METHOD, shape, w, h, values), float(METHOD.memory(shape, w, h, values)))
 
 
 def make_tileable(photo, *, band: int | None = None, seed: int = 0,
