@@ -179,6 +179,13 @@ def test_a_run_of_many_hours_is_refused_naming_the_predicted_time(monkeypatch):
         texsynth.synthesize(EXEMPLAR, 16384, 16384, method="efros_leung")
 
 
+def test_a_camera_photo_with_efros_leung_is_refused_for_its_time_not_its_memory(monkeypatch):
+    monkeypatch.setattr(texsynth.budget, "_factor", 1.0)  # the reference machine's speed
+    photo = np.zeros((3000, 4000, 3), np.uint8)  # 12 MP, as a camera writes it
+    with pytest.raises(ValueError, match=r"predicted to take about [\d.]+ days"):
+        texsynth.synthesize(photo, 2048, 2048, method="efros_leung")
+
+
 def test_the_time_budget_is_the_environment_variable(monkeypatch):
     monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", "0.001")
     with pytest.raises(ValueError, match="over the time budget"):

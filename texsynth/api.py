@@ -90,9 +90,10 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
     a = validation.image(exemplar, min_side=m.min_exemplar)
     width, height = validation.size(width, height)
     seed = validation.seed(seed)
+    # Time first: a run predicted to take days is refused for that, whatever memory it needs.
+    budget.check_method(m, a.shape, width, height, values)
     validation.check_memory(m.memory(a.shape, width, height, values),
                             f"{width} x {height} with '{m.name}'")
-    budget.check_method(m, a.shape, width, height, values)
 
     constant_alpha = None
     if a.shape[2] == 4 and np.ptp(a[:, :, 3]) == 0:
