@@ -85,7 +85,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
                 node.select = False
             first.select = True
             tree.nodes.active = first
-        w, h = made[0].size
+        h, w = image.shape[:2]  # made[0].size would load a saved file at once
         return (f"Made {len(made)} image(s) tileable ({w} x {h}): "
                 + ", ".join(f"'{m.name}'" for m in made))
 
