@@ -21,7 +21,7 @@ import functools
 import bpy
 
 from .. import texsynth
-from . import composite, properties, source
+from . import composite, output, properties, source
 
 
 class SidebarPanel:
@@ -55,7 +55,8 @@ def _source_shape(found):
 
 def _draw_prediction(layout, settings, found) -> None:
     """Predicted time and memory of the chosen method and size (cost models only: nothing is
-    run); a warning icon when over a budget. Needs the source's size: nothing without one."""
+    run; the time includes Blender's reading and storing, ``output.predict_seconds``); a
+    warning icon when over a budget. Needs the source's size: nothing without one."""
     shape = _source_shape(found)
     if shape is None:
         return
@@ -64,7 +65,8 @@ def _draw_prediction(layout, settings, found) -> None:
         values = method.resolve(properties.param_values(
             properties.method_settings(settings, method), method))
         width, height = texsynth.validation.size(settings.width, settings.height)
-        seconds = texsynth.budget.predict(method, shape, width, height, values)
+        seconds = texsynth.budget.predict(method, shape, width, height, values) + \
+            output.predict_seconds(shape[0] * shape[1], width * height, settings.output)
         need = method.memory(shape, width, height, values)
     except ValueError as error:
         layout.label(text=str(error), icon="ERROR")
@@ -80,7 +82,7 @@ def _tileable_prediction(shape, band):
 
 def _draw_tileable_prediction(layout, settings, found) -> None:
     """Make Tileable's predicted time and memory for the source's size and the band, as
-    :func:`_draw_prediction` shows the synthesis'."""
+    :func:`_draw_prediction` shows the synthesis' (Blender's reading and storing included)."""
     shape = _source_shape(found)
     if shape is None:
         return
@@ -89,7 +91,8 @@ def _draw_tileable_prediction(layout, settings, found) -> None:
     except ValueError as error:
         layout.label(text=str(error), icon="ERROR")
         return
-    _draw_cost(layout, seconds, need)
+    pixels = shape[0] * shape[1]
+    _draw_cost(layout, seconds + output.predict_seconds(pixels, pixels, settings.output), need)
 
 
 def _draw_cost(layout, seconds: float, need: float) -> None:

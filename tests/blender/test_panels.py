@@ -138,6 +138,7 @@ def test_make_tileable_shows_its_predicted_time_and_memory_for_the_photo_and_ban
     settings.band = 200
     layout = _draw("TEXSYNTH_PT_synthesize")
     seconds, need = addon.texsynth.tileable.predict((3000, 4000, 3), 200)
+    seconds += addon.operators.output.predict_seconds(12_000_000, 12_000_000, settings.output)
     shown = f"About {addon.texsynth.budget.describe(seconds)}, {need / 2**30:.2g} GiB"
     at = layout.order.index("texsynth.make_tileable")
     assert layout.order[at - 1] == shown and layout.order[at - 2] == "band"
