@@ -63,9 +63,9 @@ def test_a_12_megapixel_photo_in_a_node_is_made_tileable(addon, photo_12mp):
 
 
 def test_synthesize_from_a_large_photo_in_a_node(addon):
-    """Heeger-Bergen to 256 x 256 from a 3 MP photo (from 12 MP every method takes over a
+    """Heeger-Bergen to 256 x 256 from a 2 MP photo (from 12 MP every method takes over a
     minute for now: each analyses the whole photo)."""
-    tree = material_with(generated_image(photo(1536, 2048), name="photo"))
+    tree = material_with(generated_image(photo(1024, 2048), name="photo"))
     user = pixels_of(bpy.data.images["photo"]).copy()
     before = set(bpy.data.images)
 
