@@ -137,7 +137,8 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
         if node is not None:
             nodes.add_result_node(tree, node, image)
         classes = int(result.labels.max()) + 1
-        return (f"Synthesized '{image.name}' ({image.size[0]} x {image.size[1]}, {classes} "
+        height, width = result.image.shape[:2]  # image.size would load a saved file at once
+        return (f"Synthesized '{image.name}' ({width} x {height}, {classes} "
                 f"classes) and its label map '{layout.name}'")
 
 

@@ -66,6 +66,11 @@ class Job:
         self._cancel.set()
 
     @property
+    def cancelling(self) -> bool:
+        """Cancel was asked for (the worker may still be finishing its step)."""
+        return self._cancel.is_set()
+
+    @property
     def done(self) -> bool:
         return self._thread is not None and not self._thread.is_alive()
 
@@ -118,6 +123,7 @@ class JobOperator:
         if not job.done:
             context.window_manager.progress_update(job.fraction)
             context.workspace.status_text_set(
+                "TexSynth: cancelling" if job.cancelling else
                 f"TexSynth: {job.message} ({job.fraction:.0%}{job.time_left()}); Esc to cancel")
             return {"PASS_THROUGH"}
         self._end_ui(context)
@@ -140,7 +146,7 @@ class JobOperator:
     def _finish(self, job, plan):
         """Make the new datablocks from a finished job (main thread)."""
         if job.cancelled:
-            self.report({"INFO"}, "Synthesis cancelled: nothing was created")
+            self.report({"INFO"}, f"{self.bl_label}: cancelled, nothing was created")
             return {"CANCELLED"}
         if job.error is not None:
             return self._fail(job.error)

@@ -3,7 +3,8 @@
 Shader Editor (a material's node tree):
 
 * **Texture Synthesis** (:class:`TEXSYNTH_PT_synthesize`): the source image, the settings of
-  ``scene.texsynth`` and the ``texsynth.synthesize`` button; under it
+  ``scene.texsynth`` and the ``texsynth.synthesize`` button, then the band and the
+  ``texsynth.make_tileable`` button, each button under its predicted time and memory; under it
 * **Material Maps** (:class:`TEXSYNTH_PT_material`): the maps that follow the active one and
   ``texsynth.synthesize_material`` (guided or column);
 * **Composite** (:class:`TEXSYNTH_PT_composite`): label image, segmentation, painted layout
@@ -15,10 +16,12 @@ Image Editor and 3D View: **Plane from Texture** (:class:`TEXSYNTH_PT_plane_imag
 Panels only draw: the settings are declared in ``properties.py``, the work is the operators'.
 """
 
+import functools
+
 import bpy
 
 from .. import texsynth
-from . import composite, properties, source
+from . import composite, output, properties, source
 
 
 class SidebarPanel:
@@ -42,22 +45,61 @@ def _source_or_reason(layout, context):
         return None
 
 
-def _draw_prediction(layout, settings, found) -> None:
-    """Predicted time and memory of the chosen method and size (cost models only: nothing is
-    run); a warning icon when over a budget. Needs the source's size: nothing without one."""
+def _source_shape(found):
+    """(H, W, 3) of the source image, or None without one (the predictions' exemplar shape)."""
     image = bpy.data.images.get(found.image) if found is not None else None
     if image is None or min(image.size) == 0:
+        return None
+    return (image.size[1], image.size[0], 3)
+
+
+def _draw_prediction(layout, settings, found) -> None:
+    """Predicted time and memory of the chosen method and size (cost models only: nothing is
+    run; the time includes Blender's reading and storing, ``output.predict_seconds``); a
+    warning icon when over a budget. Needs the source's size: nothing without one."""
+    shape = _source_shape(found)
+    if shape is None:
         return
     method = properties.selected_method(settings)
     try:
         values = method.resolve(properties.param_values(
             properties.method_settings(settings, method), method))
         width, height = texsynth.validation.size(settings.width, settings.height)
-        seconds = texsynth.budget.predict(method, (image.size[1], image.size[0], 3), width,
-                                          height, values)
-        need = method.memory((image.size[1], image.size[0], 3), width, height, values)
-        over = seconds > texsynth.budget.time_budget() or need > texsynth.memory_budget()
+        seconds = texsynth.budget.predict(method, shape, width, height, values) + \
+            output.predict_seconds(shape[0] * shape[1], width * height, settings.output)
+        need = method.memory(shape, width, height, values)
     except ValueError as error:
+        layout.label(text=str(error), icon="ERROR")
+        return
+    _draw_cost(layout, seconds, need)
+
+
+@functools.lru_cache(maxsize=16)
+def _tileable_prediction(shape, band):
+    """``texsynth.tileable.predict``, kept per (photo size, band): the panel redraws often."""
+    return texsynth.tileable.predict(shape, band)
+
+
+def _draw_tileable_prediction(layout, settings, found) -> None:
+    """Make Tileable's predicted time and memory for the source's size and the band, as
+    :func:`_draw_prediction` shows the synthesis' (Blender's reading and storing included)."""
+    shape = _source_shape(found)
+    if shape is None:
+        return
+    try:
+        seconds, need = _tileable_prediction(shape, settings.band or None)
+    except ValueError as error:
+        layout.label(text=str(error), icon="ERROR")
+        return
+    pixels = shape[0] * shape[1]
+    _draw_cost(layout, seconds + output.predict_seconds(pixels, pixels, settings.output), need)
+
+
+def _draw_cost(layout, seconds: float, need: float) -> None:
+    """'About 12 s, 0.5 GiB', with a warning icon when over the time or memory budget."""
+    try:
+        over = seconds > texsynth.budget.time_budget() or need > texsynth.memory_budget()
+    except ValueError as error:  # a budget set to something that is not a number
         layout.label(text=str(error), icon="ERROR")
         return
     layout.label(text=f"About {texsynth.budget.describe(seconds)}, {need / 2**30:.2g} GiB",
@@ -77,6 +119,9 @@ class TEXSYNTH_PT_synthesize(SidebarPanel, bpy.types.Panel):
         properties.draw_settings(layout, context.scene.texsynth)
         _draw_prediction(layout, context.scene.texsynth, found)
         layout.operator("texsynth.synthesize", icon="TEXTURE")
+        layout.separator()
+        layout.prop(context.scene.texsynth, "band")
+        _draw_tileable_prediction(layout, context.scene.texsynth, found)
         layout.operator("texsynth.make_tileable", icon="MOD_ARRAY")
 
 

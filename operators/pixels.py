@@ -14,6 +14,12 @@ a byte source; float sources are encoded to sRGB, or kept as they are when Non-C
 floats (scene-linear, premultiplied: sRGB bytes are decoded on the way; bytes in another colour
 space, Non-Color included, keep their values and their colour-space tag, so Blender converts
 them on load).
+
+Images of many megapixels: Blender hands out and takes pixels as one flat float32 array,
+bottom row first, through ``foreach_get``/``foreach_set``. Each way makes that one array and
+no other of the image's size: the exemplar is turned top row first and cut to its channels in
+place, and a result is encoded into the array Blender takes, a block of rows at a time (the
+colour maths' temporaries are a block's, not an image's).
 """
 
 from dataclasses import dataclass
@@ -23,6 +29,8 @@ import numpy as np
 from ..texsynth.blocks import color
 
 SUPPORTED_SOURCES = {"FILE", "GENERATED"}
+#: Values per block of rows when pixels are turned or encoded (about 1 MB of float32).
+BLOCK = 1 << 18
 
 
 @dataclass(frozen=True)
@@ -48,62 +56,95 @@ def read_exemplar(image) -> tuple[np.ndarray, Encoding]:
         raise ValueError(f"Image '{image.name}' has no pixel data{where}")
     buffer = np.empty(len(image.pixels), np.float32)
     image.pixels.foreach_get(buffer)
-    pixels = buffer.reshape(height, width, -1)[::-1]
+    keep = _significant_channels(buffer.reshape(height, width, -1))
     encoding = Encoding(bool(image.is_float), image.colorspace_settings.name,
                         bool(image.colorspace_settings.is_data))
-    return np.ascontiguousarray(_significant_channels(pixels)), encoding
+    return _top_first(buffer, height, width, keep), encoding
 
 
-def _significant_channels(pixels: np.ndarray) -> np.ndarray:
+def _significant_channels(pixels: np.ndarray) -> int:
+    """How many channels carry information: 4 with a varying alpha, 1 for grey, else 3."""
     channels = pixels.shape[2]
     if channels == 4 and not (pixels[:, :, 3] == 1).all():
-        return pixels
+        return 4
     if channels == 1 or (np.array_equal(pixels[:, :, 0], pixels[:, :, 1])
                          and np.array_equal(pixels[:, :, 0], pixels[:, :, 2])):
-        return pixels[:, :, :1]
-    return pixels[:, :, :3]
+        return 1
+    return min(channels, 3)
 
 
-def to_rgba(result: np.ndarray) -> np.ndarray:
-    """(H, W, C) with C in 1, 3, 4 as (H, W, 4): grey repeated, missing alpha opaque."""
-    rgb = np.repeat(result[:, :, :1], 3, axis=2) if result.shape[2] == 1 else result[:, :, :3]
-    if result.shape[2] == 4:
-        alpha = result[:, :, 3:]
-    else:
-        alpha = np.ones(result.shape[:2] + (1,), np.float32)
-    return np.concatenate([rgb, alpha], axis=2).astype(np.float32)
+def _top_first(buffer: np.ndarray, height: int, width: int, keep: int) -> np.ndarray:
+    """``buffer``'s bottom-row-first pixels as C-contiguous (H, W, keep), top row first, made
+    inside ``buffer`` (rows swapped in blocks, then channels packed forward: each block's
+    values land at or before where they were read, behind the blocks still to read) and
+    ``buffer`` shrunk to them."""
+    rows = buffer.reshape(height, -1)
+    step = max(1, BLOCK // rows.shape[1])
+    half = height // 2
+    for top in range(0, half, step):
+        end = min(top + step, half)
+        upper = rows[top:end].copy()
+        rows[top:end] = rows[height - end:height - top][::-1]
+        rows[height - end:height - top] = upper[::-1]
+    channels = rows.shape[1] // width
+    if keep < channels:
+        pixels = rows.reshape(height, width, channels)
+        packed = buffer[:height * width * keep].reshape(height, width, keep)
+        for top in range(0, height, step):
+            packed[top:top + step] = pixels[top:top + step, :, :keep]  # numpy handles overlap
+        del rows, pixels, packed  # no view may outlive the shrink
+        buffer.resize(height * width * keep, refcheck=False)
+    return buffer.reshape(height, width, keep)
 
 
-def as_float(result: np.ndarray, encoding: Encoding) -> tuple[np.ndarray, str | None]:
-    """Premultiplied floats for a float image, and its colour space (None: scene linear)."""
-    rgba = to_rgba(result)
+def blender_order(height: int, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """A flat float32 array for ``foreach_set`` of an (H, W) RGBA image, and its (H, W, 4)
+    top-row-first view to write into."""
+    flat = np.empty(height * width * 4, np.float32)
+    return flat, flat.reshape(height, width, 4)[::-1]
+
+
+def encode(result: np.ndarray, encoding: Encoding, as_float: bool, out: np.ndarray) -> str | None:
+    """Write ``result`` (H, W, C), C in 1, 3, 4, into ``out`` (H, W, 3 or 4, any strides) as a
+    float image's values (premultiplied, scene-linear: ``as_float``) or a byte image's (straight
+    alpha, encoded, in [0, 1]); returns the new image's colour space (None: scene linear).
+
+    Grey is repeated into R, G, B; a missing alpha is opaque; ``out`` without alpha takes the
+    colour only.
+    """
+    step = max(1, BLOCK // (result.shape[1] * 4))
+    for top in range(0, result.shape[0], step):
+        rows = result[top:top + step]
+        rgb = rows[:, :, :1] if rows.shape[2] == 1 else rows[:, :, :3]
+        alpha = rows[:, :, 3:] if rows.shape[2] == 4 else np.float32(1.0)
+        rgb, alpha, colorspace = (_as_float if as_float else _as_bytes)(rgb, alpha, encoding)
+        out[top:top + step, :, :3] = rgb
+        if out.shape[2] == 4:
+            out[top:top + step, :, 3:] = alpha
+    return colorspace
+
+
+def _as_float(rgb, alpha, encoding):
+    """Premultiplied scene-linear colour of one block, its alpha and the colour space."""
     if encoding.is_float:
-        return rgba, "Non-Color" if encoding.is_data else None
-    rgba = np.clip(rgba, 0.0, 1.0)
+        return rgb, alpha, "Non-Color" if encoding.is_data else None
+    rgb, alpha = np.clip(rgb, 0.0, 1.0), np.clip(alpha, 0.0, 1.0)
     if encoding.colorspace == "sRGB":
-        rgba[:, :, :3] = color.srgb_to_linear(rgba[:, :, :3])
-        colorspace = None
+        rgb, colorspace = color.srgb_to_linear(rgb), None
     else:
         colorspace = encoding.colorspace
-    rgba[:, :, :3] *= rgba[:, :, 3:]
-    return rgba, colorspace
+    return rgb * alpha, alpha, colorspace
 
 
-def as_bytes(result: np.ndarray, encoding: Encoding) -> tuple[np.ndarray, str]:
-    """Straight-alpha encoded values in [0, 1] for a byte image or PNG, and its colour space."""
-    rgba = to_rgba(result)
+def _as_bytes(rgb, alpha, encoding):
+    """Straight-alpha encoded colour of one block in [0, 1], its alpha and the colour space."""
     if not encoding.is_float:
-        return np.clip(rgba, 0.0, 1.0), encoding.colorspace
-    alpha = rgba[:, :, 3:]
-    rgb = np.divide(rgba[:, :, :3], alpha, out=np.zeros_like(rgba[:, :, :3]), where=alpha > 0)
+        return np.clip(rgb, 0.0, 1.0), np.clip(alpha, 0.0, 1.0), encoding.colorspace
+    if np.ndim(alpha):
+        rgb = np.divide(rgb, alpha, out=np.zeros(np.broadcast_shapes(rgb.shape, alpha.shape),
+                                                 np.float32), where=alpha > 0)
     if encoding.is_data:
         colorspace = "Non-Color"
     else:
         rgb, colorspace = color.linear_to_srgb(np.maximum(rgb, 0.0)), "sRGB"
-    rgba = np.concatenate([rgb, alpha], axis=2)
-    return np.clip(rgba, 0.0, 1.0), colorspace
-
-
-def set_pixels(image, rgba: np.ndarray) -> None:
-    """Write (H, W, 4) top-row-first values into an image of that size."""
-    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1], np.float32).ravel())
+    return np.clip(rgb, 0.0, 1.0), np.clip(alpha, 0.0, 1.0), colorspace

@@ -5,7 +5,8 @@ and the settings the operators take.
 else) holds:
 
 * ``method`` (enum, the registry's names upper-cased), ``width``, ``height``, ``seed``,
-  ``output``, ``output_dir``: the panel's synthesis settings;
+  ``output``, ``output_dir``: the panel's synthesis settings; ``band``: Make Tileable's (seed
+  and output are shared);
 * ``params.<method>.<param>``: one group per registry method, made from its ``Param`` specs
   with its own defaults and ranges, so methods sharing a parameter name (``levels``,
   ``threshold``) keep their own values;
@@ -128,6 +129,15 @@ def _common_properties(options: set, methods) -> dict:
             default="//", subtype="DIR_PATH", options=options | _BLEND_RELATIVE,
         ),
     }
+
+
+def band_property(options: set):
+    """Make Tileable's band width (the scene's and the operator's)."""
+    return bpy.props.IntProperty(
+        name="Band", default=0, min=0, soft_max=512, subtype="PIXEL", options=options,
+        description="Width in pixels of the band re-synthesized across the photo's edges; "
+                    "0: automatic (an eighth of the shorter side). At most half of the photo "
+                    "may change")
 
 
 def operator_properties(methods=None) -> dict:
@@ -311,6 +321,7 @@ TEXSYNTH_PG_settings = type("TEXSYNTH_PG_settings", (bpy.types.PropertyGroup,), 
     "__doc__": "Everything TexSynth keeps per scene: ``scene.texsynth``",
     "__annotations__": {
         **_common_properties(set(), _METHODS),
+        "band": band_property(set()),
         "params": bpy.props.PointerProperty(type=TEXSYNTH_PG_params),
         "composite": bpy.props.PointerProperty(type=TEXSYNTH_PG_composite),
         "plane": bpy.props.PointerProperty(type=TEXSYNTH_PG_plane),

@@ -57,7 +57,8 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
         elif src.node:
             self.report({"WARNING"}, f"Node '{src.node}' is gone: image '{image.name}' was made "
                                      "without a node")
-        return f"Synthesized '{image.name}' ({image.size[0]} x {image.size[1]})"
+        height, width = result.shape[:2]  # image.size would load a saved file at once
+        return f"Synthesized '{image.name}' ({width} x {height})"
 
 
 classes = (TEXSYNTH_OT_synthesize,)

@@ -27,11 +27,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
     bl_label = "Make Tileable"
     bl_options = {"REGISTER", "UNDO"}
 
-    band: bpy.props.IntProperty(
-        name="Band", default=0, min=0, soft_max=512, subtype="PIXEL", options={"SKIP_SAVE"},
-        description="Width in pixels of the band re-synthesized across the photo's edges; "
-                    "0: automatic (an eighth of the shorter side). At most half of the photo "
-                    "may change")
+    band: properties.band_property({"SKIP_SAVE"})
     all_maps: bpy.props.BoolProperty(
         name="Other Selected Maps Too", default=False, options={"SKIP_SAVE"},
         description="Make the images of the other selected Image Texture nodes (normal, "
@@ -53,7 +49,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
     def prepare(self, context):
         """Check everything and copy every map out of Blender; raises ``ValueError``."""
         settings = context.scene.texsynth
-        for name in ("seed", "output", "output_dir"):  # unset: the panel's settings
+        for name in ("band", "seed", "output", "output_dir"):  # unset: the panel's settings
             if not self.properties.is_property_set(name):
                 setattr(self, name, getattr(settings, name))
         src = source.find_source(context)
@@ -89,7 +85,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
                 node.select = False
             first.select = True
             tree.nodes.active = first
-        w, h = made[0].size
+        h, w = image.shape[:2]  # made[0].size would load a saved file at once
         return (f"Made {len(made)} image(s) tileable ({w} x {h}): "
                 + ", ".join(f"'{m.name}'" for m in made))
 

@@ -74,3 +74,24 @@ def test_errors_change_nothing(addon):
     with pytest.raises(RuntimeError, match="not an Image Texture node"):
         bpy.ops.texsynth.make_tileable()
     assert fingerprint() == before
+
+
+@pytest.mark.parametrize("channels", [1, 3, 4])
+def test_a_photo_comes_back_upright_in_its_channels(addon, channels):
+    """Grey, colour, and colour with a varying alpha, of an odd height that Blender hands over
+    in several blocks of rows: the kept centre is the photo's own, where it was (floats:
+    exactly)."""
+    h, w = 301, 700
+    values = np.concatenate([photo(3, h, w), photo(4, h, w)], axis=2)[:, :, :channels]
+    material_with(generated_image(values, name="photo", float_buffer=True,
+                                  colorspace="Non-Color"))
+    user = pixels_of(bpy.data.images["photo"]).copy()
+    before = set(bpy.data.images)
+
+    assert bpy.ops.texsynth.make_tileable(band=40) == {"FINISHED"}
+
+    (made,) = set(bpy.data.images) - before
+    result = pixels_of(made)
+    centre = (slice(40, h - 40), slice(40, w - 40))
+    assert np.array_equal(result[centre], user[centre])
+    assert not np.array_equal(result, user)  # the band changed

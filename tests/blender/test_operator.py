@@ -248,7 +248,8 @@ def test_a_relative_directory_is_next_to_the_saved_blend(tmp_path):
     image = synthesize(source_image=source.name, width=32, height=32, output="PNG",
                        output_dir="//textures/", **FAST)
     assert image.filepath == "//textures/source_heeger_bergen_0.png"
-    assert (tmp_path / "textures" / "source_heeger_bergen_0.png").is_file() and image.has_data
+    assert (tmp_path / "textures" / "source_heeger_bergen_0.png").is_file()
+    assert tuple(image.size) == (32, 32) and image.has_data  # loads through the relative path
 
 
 @pytest.mark.parametrize("call", ["EXEC_DEFAULT", "INVOKE_DEFAULT"])

@@ -12,7 +12,7 @@ from scenes import generated_image, material_with, noise
 #: What each panel must show when the scene has a source, followers and a plane estimate.
 EXPECTED = {
     "TEXSYNTH_PT_synthesize": {"method", "width", "height", "seed", "output",
-                               "texsynth.synthesize"},
+                               "texsynth.synthesize", "band", "texsynth.make_tileable"},
     "TEXSYNTH_PT_material": {"texsynth.synthesize_material"},
     "TEXSYNTH_PT_composite": {"label_image", "output_labels", "texsynth.segment",
                               "texsynth.synthesize_composite"},
@@ -27,21 +27,26 @@ EXPECTED = {
 
 class _Layout:
     """Stands in for a panel's layout: checks every property and operator it is asked to draw
-    and records them, and the labels."""
+    and records them, and the labels (their icons too), in the order drawn."""
 
     def __init__(self):
         self.drawn = []
         self.labels = []
+        self.icons = []
+        self.order = []
 
     def __getattr__(self, name):  # row, column, box, separator, ...: keep drawing
         return lambda *args, **kwargs: self
 
-    def label(self, text="", **_):
+    def label(self, text="", icon="NONE", **_):
         self.labels.append(text)
+        self.icons.append(icon)
+        self.order.append(text)
 
     def prop(self, data, name, **_):
         assert name in data.bl_rna.properties, name
         self.drawn.append(name)
+        self.order.append(name)
 
     template_ID = prop
 
@@ -49,6 +54,7 @@ class _Layout:
         category, name = idname.split(".")
         assert name in dir(getattr(bpy.ops, category)), idname
         self.drawn.append(idname)
+        self.order.append(idname)
         return types.SimpleNamespace()
 
 
@@ -106,13 +112,41 @@ def test_the_material_panel_asks_for_a_method_that_copies_pixels():
     assert not layout.drawn
 
 
+def _synthesis_prediction(layout):
+    """The label drawn right above the Synthesize button."""
+    return layout.order[layout.order.index("texsynth.synthesize") - 1]
+
+
 def test_the_synthesis_panel_shows_predicted_time_and_memory_before_the_button(addon, monkeypatch):
     material_with(generated_image(noise(24, 32), name="colour"))
     settings = bpy.context.scene.texsynth
     monkeypatch.setattr(addon.texsynth.budget, "_factor", 1.0)  # the reference machine's speed
     settings.method, settings.width, settings.height = "EFROS_LEUNG", 256, 256
-    small = [t for t in _draw("TEXSYNTH_PT_synthesize").labels if t.startswith("About ")]
+    small = _synthesis_prediction(_draw("TEXSYNTH_PT_synthesize"))
     settings.width = settings.height = 16384
-    large = [t for t in _draw("TEXSYNTH_PT_synthesize").labels if t.startswith("About ")]
-    assert len(small) == len(large) == 1 and small != large
-    assert large[0].split()[2] in ("h,", "days,")  # a job of hours is seen before pressing
+    large = _synthesis_prediction(_draw("TEXSYNTH_PT_synthesize"))
+    assert small.startswith("About ") and large.startswith("About ") and small != large
+    assert large.split()[2] in ("h,", "days,")  # a job of hours is seen before pressing
+
+
+def test_make_tileable_shows_its_predicted_time_and_memory_for_the_photo_and_band(addon,
+                                                                                 monkeypatch):
+    """Above the Make Tileable button: the time and memory texsynth.tileable.predict gives for
+    the active image's size and the panel's band, flagged when over a budget."""
+    material_with(bpy.data.images.new("photo", 4000, 3000))  # 12 MP; its pixels are not read
+    settings = bpy.context.scene.texsynth
+    settings.band = 200
+    layout = _draw("TEXSYNTH_PT_synthesize")
+    seconds, need = addon.texsynth.tileable.predict((3000, 4000, 3), 200)
+    seconds += addon.operators.output.predict_seconds(12_000_000, 12_000_000, settings.output)
+    shown = f"About {addon.texsynth.budget.describe(seconds)}, {need / 2**30:.2g} GiB"
+    at = layout.order.index("texsynth.make_tileable")
+    assert layout.order[at - 1] == shown and layout.order[at - 2] == "band"
+    icons = []
+    for time_budget, memory_budget in ((2 * seconds, 2 * need), (seconds / 2, 2 * need),
+                                       (2 * seconds, need / 2)):
+        monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", str(time_budget))
+        monkeypatch.setenv("TEXSYNTH_MEMORY_BUDGET", str(int(memory_budget)))
+        layout = _draw("TEXSYNTH_PT_synthesize")
+        icons.append(layout.icons[layout.labels.index(shown)])
+    assert icons == ["TIME", "ERROR", "ERROR"]
