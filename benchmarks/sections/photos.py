@@ -11,11 +11,14 @@ real 12 MP photo.
 Every run is its own subprocess (``benchmarks.jobs``: wall time, the process's own peak resident
 memory, the library's predictions made in the same process just before the run), kept in
 ``build/photos/<tree>/``, so an interrupted section resumes where it stopped. Resynthesizer is
-run up to 2048 x 2048 (``RESYNTH``; it grows about 7x per doubling of the side) with a time
-limit, and its 12 MP time is extrapolated, not measured.
+run up to 2048 x 2048 (``RESYNTH``: its band at 2048 takes about 4 min of one core, 20 min
+of wall time on a loaded machine) with a time limit, and its 12 MP time is extrapolated, not
+measured.
 
-About 25-35 minutes on a quiet 2-core machine: the methods' 12 MP and crop runs about 15,
-Resynthesizer's band at 2048 about 8, make_tileable at every size about 5, GIMP about 2.
+About 25 minutes on a quiet 2-core machine: the methods' 12 MP and crop runs about 10-12 (the
+sum of their predicted times), Resynthesizer about 6, make_tileable at every size about 5, GIMP
+about 2. ``--quick`` (small crops of the same photos, Efros-Leung refused by a 5 min budget):
+about 4 minutes.
 
 Also writes the README's first picture (docs/img/readme_make_tileable.jpg) from the
 make_tileable run of ``README_PHOTO``; README.md's caption under it names the photo and its
@@ -222,7 +225,7 @@ def _predictions(r: dict, goals: Goals) -> tuple[str, str]:
     """Predicted over measured time, predicted memory over the run's growth of resident memory
     (its peak less the process's size before the call)."""
     t = goals.mark("predicted time", r["predicted_s"] / r["seconds"], *PREDICTION)
-    grown = r["rss"] - r["base"]
+    grown = max(r["rss"] - r["base"], 1.0)
     m = goals.mark("predicted memory", r["predicted_bytes"] / 2**20 / grown, *PREDICTION)
     return (f"{r['predicted_s']:.0f} / {t}", f"{r['predicted_bytes'] / 2**20:.0f} / {m}")
 
@@ -350,9 +353,8 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         if key in p.sheets:
             cells = [_corner(image)] + [_corner(runs[t]["image"]) if "image" in runs.get(t, {})
                                         else None for t in ("GIMP", "Resynth.", "ours")]
-            sheet = ctx.contact_sheet(f"photos_tileable_{re.sub(r'[^A-Za-z0-9_-]', '_', key)}"
-                                      ".png", ["photo", "GIMP", "Resynth.", "ours"], [cells],
-                                      cell=VIEW)
+            sheet = ctx.contact_sheet(f"photos_tileable_{Path(key.partition('@')[0]).stem}.png",
+                                      ["photo", "GIMP", "Resynth.", "ours"], [cells], cell=VIEW)
             pictures += [f"![{label(key)}: photo, GIMP, Resynthesizer, make_tileable around "
                          f"the wrap's corner]({sheet})", "", f"{label(key)}, {w} x {h}.", ""]
     gimp_note = ("GIMP 2.10's *Make Seamless* (plug-in-make-seamless, Debian's gimp, one "
