@@ -12,6 +12,7 @@ import importlib
 import os
 import pkgutil
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -27,15 +28,22 @@ QUICK_DOCS = REPO / "build" / "benchmarks-quick"
 REQUIREMENTS = Path(__file__).with_name("requirements.txt")
 
 
+#: Peers that are programs: (program on the PATH, Debian package).
+PROGRAMS = (("gmic", "gmic"), ("gimp-console-2.10", "gimp"))
+
+
 def install_peers() -> None:
-    """The peers are the benchmark's own requirements: install them into this interpreter."""
+    """The peers are the benchmark's own requirements: install them into this interpreter, and
+    the programs (G'MIC, GIMP for its Make Seamless) with apt."""
     subprocess.run([sys.executable, "-m", "pip", "install", "-q", "-r", str(REQUIREMENTS)],
                    check=False)
-    if not any((Path(p) / "gmic").exists() for p in os.environ.get("PATH", "").split(":")):
-        apt = ["apt-get", "install", "-y", "-q", "--no-install-recommends", "gmic"]
-        if subprocess.run(apt, check=False, capture_output=True).returncode:
+    missing = [package for program, package in PROGRAMS if shutil.which(program) is None]
+    if missing:
+        apt = ["apt-get", "install", "-y", "-q", "--no-install-recommends", *missing]
+        env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+        if subprocess.run(apt, check=False, capture_output=True, env=env).returncode:
             subprocess.run(["apt-get", "update", "-q"], check=False, capture_output=True)
-            subprocess.run(apt, check=False, capture_output=True)
+            subprocess.run(apt, check=False, capture_output=True, env=env)
 
 
 def machine() -> str:
@@ -55,10 +63,11 @@ def versions() -> str:
             found.append(f"{name} {version(name)}")
         except Exception:  # a missing peer is reported by its section
             pass
-    gmic = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", "gmic"], capture_output=True,
-                          text=True, check=False)
-    if gmic.returncode == 0:
-        found.append(f"gmic {gmic.stdout}")
+    for _, package in PROGRAMS:
+        dpkg = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", package],
+                              capture_output=True, text=True, check=False)
+        if dpkg.returncode == 0 and dpkg.stdout:
+            found.append(f"{package} {dpkg.stdout}")
     return ", ".join(found)
 
 

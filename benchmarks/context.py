@@ -29,7 +29,10 @@ from texsynth import metrics
 from texsynth.io import read_image, write_png
 
 REPO = Path(__file__).resolve().parent.parent
-SHARED_TEXTURES = REPO.parent / "shared" / "textures"
+#: ../shared/textures beside the repository; ``TEXSYNTH_SHARED_TEXTURES`` names another place (a
+#: worktree one level deeper).
+SHARED_TEXTURES = Path(os.environ.get("TEXSYNTH_SHARED_TEXTURES")
+                       or REPO.parent / "shared" / "textures")
 SAMPLE = REPO / "samples" / "pool_water.png"
 QUICK_TEXTURES = ("trigger-rally/pool_water.png", "extremetuxracer/pebbles01.png",
                   "gimp-data/bark.png")

@@ -1,26 +1,19 @@
 """Production sizes (issue 18): every method and Resynthesizer on large photos, 1024 -> 2048,
 and 4096 for the two fast methods; time, peak resident memory, quality, full-resolution crops.
 
-Every run is its own subprocess (``python -m benchmarks.sections.production RUN ...``), which
-reports its own peak resident memory (``VmHWM``, which sees numpy, FFTs and C code alike; not
-the parent's ``ru_maxrss`` of the child, which starts from the parent's size at the fork).
+Every run is its own subprocess (``python -m benchmarks.sections.production RUN ...``, through
+``benchmarks.jobs``), which reports its own peak resident memory (``VmHWM``).
 Efros-Leung is per pixel: it is timed on a small output from the same exemplar and its time
 at the production size is predicted (linear in the output pixels, a lower bound:
 measured growth is steeper), then refused, as the time budget would.
 
-Runs are kept in ``build/production/<tree>/`` (time, peak, output; ``<tree>`` is the git hash
-of the committed ``texsynth/`` folder), so an interrupted section picks up where it stopped when
-re-run on the same library code.
+Runs are kept in ``build/production/<tree>/`` (``benchmarks.jobs.cache``), so an interrupted
+section picks up where it stopped when re-run on the same library code.
 """
 
 from __future__ import annotations
 
-import json
-import os
-import re
-import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -29,7 +22,8 @@ import numpy as np
 from texsynth import metrics
 from texsynth.io import read_image
 
-from ..context import REPO, SHARED_TEXTURES
+from .. import jobs
+from ..context import SHARED_TEXTURES
 
 ORDER = 35
 TITLE = "Production sizes: large photos, 2048 and 4096 outputs"
@@ -83,53 +77,13 @@ def _child(photo: str, method: str, side: int, out: str) -> None:
                                     progress=progress)
     seconds = time.perf_counter() - start
     gap = float(np.diff([start, *calls, start + seconds]).max()) if method != PEER else None
-    hwm = int(re.search(r"VmHWM:\s+(\d+)", Path("/proc/self/status").read_text()).group(1))
-    np.save(out, np.asarray(image, np.float32)[:, :, :3])
-    print(json.dumps({"seconds": seconds, "rss": hwm / 1024, "gap": gap}), flush=True)
-
-
-def _cache() -> Path:
-    """Where runs of this library code are kept (a fresh temporary folder when ``texsynth/`` has
-    uncommitted changes)."""
-    head = subprocess.run(["git", "rev-parse", "--short", "HEAD:texsynth"], capture_output=True,
-                          text=True, cwd=REPO, check=False).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "texsynth"],
-                           capture_output=True, text=True, cwd=REPO, check=False).stdout.strip()
-    if not head or dirty:
-        return Path(tempfile.mkdtemp(prefix="production-"))
-    path = REPO / "build" / "production" / head
-    path.mkdir(parents=True, exist_ok=True)
-    return path
+    jobs.report(out, image, seconds=seconds, gap=gap)
 
 
 def _run(photo: str, method: str, side: int, tmp: Path) -> dict:
     """A child run: its time, peak RSS (MiB) and output, or the error (kept in ``tmp``)."""
-    stem = tmp / f"{Path(photo).stem}_{method}_{side}"
-    out, record = stem.with_suffix(".npy"), stem.with_suffix(".json")
-    if record.exists():
-        result = json.loads(record.read_text())
-        if method == PEER and "peak" not in result:  # an older record: its time, no peak
-            result["rss"] = float("nan")
-        if "peak" in result or "error" in result or method == PEER:
-            return {**result, "image": np.load(out)} if "seconds" in result else result
-    with tempfile.TemporaryFile() as err:
-        proc = subprocess.Popen([sys.executable, "-m", "benchmarks.sections.production", "RUN",
-                                 photo, method, str(side), str(out)], stdout=subprocess.PIPE,
-                                stderr=err, cwd=REPO)
-        stdout = proc.stdout.read()
-        _, status, _ = os.wait4(proc.pid, 0)
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        err.seek(0)
-        stderr = err.read()
-    if proc.returncode:
-        tail = stderr.decode(errors="replace").strip().splitlines()[-1:] or ["?"]
-        result = {"error": tail[0], "rss": float("nan")}
-    else:
-        child = json.loads(stdout.decode().strip().splitlines()[-1])
-        result = {"seconds": child["seconds"], "rss": child["rss"], "gap": child["gap"],
-                  "peak": "VmHWM"}
-    record.write_text(json.dumps(result))
-    return {**result, "image": np.load(out)} if "seconds" in result else result
+    return jobs.run("benchmarks.sections.production", [photo, method, str(side)],
+                    tmp / f"{Path(photo).stem}_{method}_{side}")
 
 
 def _predict_efros_leung(photo: str, tmp: Path) -> dict:
@@ -146,7 +100,8 @@ def _gap(run: dict) -> str:
 
 def _quality(exemplar, image) -> dict:
     patches = metrics.patch_distance(exemplar, image, samples=PATCH_SAMPLES)
-    return {"seam": metrics.seam_ratio(image), "patch": patches["median"],
+    return {"seam": metrics.seam_ratio(image), "gradient": metrics.gradient_ratio(exemplar, image),
+            "patch": patches["median"],
             "copy": patches["copy_share"],
             "structure": metrics.structure_distance(exemplar, image)}
 
@@ -168,7 +123,11 @@ def run(ctx) -> str:
         f"{', '.join(BIG_METHODS)} on the first photo); seed {SEED}, default parameters, one run "
         "each, every run in its own process. Time: wall clock; ratio: to Resynthesizer's time on "
         "the same photo in this run. Peak: the run's process's peak resident memory (VmHWM, MiB, "
-        "interpreter and imports included, about 100 MiB). Seam: seam ratio (1 tiles); patch: "
+        "interpreter and imports included, about 100 MiB). Seam: seam ratio (the mean step "
+        "across the wrap over the mean step inside), and gradient: the output's mean gradient "
+        "over the photo's; both read two-sided, between 0.9 and 1.1 is the target: a seam ratio "
+        "of 0.5 is a soft line where the tiles meet, as far off as 1.5 (a visible step), and a "
+        "gradient ratio under 0.9 is a blurred output, over 1.1 a noisier one. Patch: "
         f"median nearest-exemplar-patch distance of {PATCH_SAMPLES} sampled 8 x 8 patches (lower "
         "is closer to the photo; copy: share of verbatim patches); structure: coherence-"
         "histogram distance (0..1, lower keeps the photo's edges and lines); Esc: the longest "
@@ -178,15 +137,15 @@ def run(ctx) -> str:
         f"{PROBE} x {PROBE} and predicted at {SIDE} (linear in pixels: a lower bound), not run.",
         "",
     ]
-    table = ["| photo | method | size | time (s) | ratio | peak (MiB) | Esc (s) | seam | patch | "
-             "copy | structure |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    table = ["| photo | method | size | time (s) | ratio | peak (MiB) | Esc (s) | seam | gradient "
+             "| patch | copy | structure |", "|---" * 12 + "|"]
     sheets = []
-    tmp = _cache()
+    tmp = jobs.cache("production")
     for p, (photo, category) in enumerate(PHOTOS):
         exemplar = load(LARGE / photo)
         short = Path(photo).stem
         natural = metrics.self_distance(exemplar)
-        table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | | "
+        table.append(f"| {short} ({category}) | natural | {EXEMPLAR} | | | | | | | "
                      f"{natural['patch_distance']:.2f} | {natural['copy_share']:.2f} | "
                      f"{natural['structure_distance']:.3f} |")
         runs = ([(m, BIG) for m in BIG_METHODS] if p == 0 else []) + [(m, SIDE) for m in names]
@@ -196,8 +155,8 @@ def run(ctx) -> str:
             print(f"   {short} {method} {side}", flush=True)
             r = _run(photo, method, side, tmp)
             if "error" in r:
-                table.append(f"| {short} | {method} | {side} | failed: {r['error']} | | "
-                             f"{r['rss']:.0f} | | | | | |")
+                table.append(f"| {short} | {method} | {side} | failed: {r['error']} | | | | | | "
+                             "| | |")
                 continue
             if method == PEER:
                 peer_time = r["seconds"]
@@ -207,19 +166,20 @@ def run(ctx) -> str:
                 ratio = "(4096)"
             table.append(
                 f"| {short} | {method} | {side} | {r['seconds']:.0f} | {ratio} | "
-                f"{r['rss']:.0f} | {_gap(r)} | {q['seam']:.2f} | {q['patch']:.2f} | "
+                f"{r['rss']:.0f} | {_gap(r)} | {q['seam']:.2f} | {q['gradient']:.2f} | "
+                f"{q['patch']:.2f} | "
                 f"{q['copy']:.2f} | {q['structure']:.3f} |")
             if side == SIDE:
                 crops[method] = _crop(r["image"])
         el = _predict_efros_leung(photo, tmp)
         if "error" in el:
             table.append(f"| {short} | efros_leung | {SIDE} | failed: {el['error']} "
-                         "| | | | | | | |")
+                         "| | | | | | | | |")
         else:
             ratio = f"{el['predicted'] / peer_time:.0f}" if peer_time else ""
             table.append(f"| {short} | efros_leung | {SIDE} | refused: predicted "
                          f"{el['predicted']:.0f} ({el['probe']:.1f} at {PROBE}) | {ratio} "
-                         "| | | | | | |")
+                         "| | | | | | | |")
         row = [exemplar[:CROP, :CROP]] + [crops.get(m) for m in names]
         sheets.append((short, ctx.contact_sheet(f"production_{short}.png",
                                                 ["photo", *names], [row], cell=CROP)))
