@@ -1,83 +1,197 @@
 """texsynth.make_tileable: the photo itself made to tile, its centre kept, the band across the
-wrap re-synthesized from its own pixels, the other maps following the same positions."""
+wrap quilted from its own pixels (as sharp as the photo), the other maps following the same
+positions."""
+
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import texsynth
-from texsynth.metrics import seam_ratio
+from texsynth.io import read_image
+from texsynth.metrics import band_sharpness, gradient_ratio, seam_ratio
+from texsynth.tileable import default_band, predict
 
 from _images import smooth_noise
 
-
-@pytest.fixture(scope="module")
-def photo():
-    """A crop of a larger texture: it does not tile (its opposite edges differ)."""
-    big = smooth_noise((160, 200), seed=3, sigma=2.0)
-    return np.ascontiguousarray(big[13:109, 27:155])  # 128 x 96
+SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
 
 
-def test_result_tiles_and_keeps_the_photo_where_it_can(photo):
+def cracked(shape=(320, 384), seed=0):
+    """Smooth noise crossed by sharp dark cracks, cropped from a larger canvas (it does not
+    tile)."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    canvas = smooth_noise((h + 40, w + 40), seed=seed, sigma=2.0) * 0.6 + 0.3
+    t = np.linspace(0.0, 1.0, 600)[:, None]
+    for _ in range(14):
+        start = rng.uniform(0, [h + 40, w + 40])
+        angle = rng.uniform(0, np.pi)
+        length = rng.uniform(40, 120)
+        points = start + t * length * np.array([np.sin(angle), np.cos(angle)])
+        r, c = np.rint(points).astype(int).T
+        inside = (r >= 0) & (r < h + 40) & (c >= 0) & (c < w + 40)
+        canvas[r[inside], c[inside]] = 0.05
+    return np.ascontiguousarray(canvas[17:17 + h, 23:23 + w]).astype(np.float32)
+
+
+def bricks(shape=(320, 384), seed=0):
+    """A running-bond brick wall drawn by code: bricks of their own colour and grain, grey
+    mortar joints; its height is not a whole number of courses (it does not tile)."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    course, length, joint = 14, 30, 3
+    i, j = np.mgrid[:h + 30, :w + 60]
+    row = i // course
+    col = (j + (row % 2) * length // 2) // length
+    colours = rng.uniform([0.45, 0.15, 0.1], [0.8, 0.35, 0.25], (row.max() + 1, col.max() + 2, 3))
+    wall = colours[row, col] + 0.06 * smooth_noise(i.shape, seed=seed, sigma=1.0) - 0.03
+    mortar = (i % course < joint) | ((j + (row % 2) * length // 2) % length < joint)
+    wall[mortar] = 0.6 + 0.04 * rng.standard_normal((mortar.sum(), 1))
+    return np.ascontiguousarray(wall[11:11 + h, 7:7 + w]).astype(np.float32)
+
+
+def pool_water():
+    return read_image(SAMPLE)[:, :, :3].astype(np.float32)
+
+
+PHOTOS = {"cracked": cracked, "bricks": bricks, "pool_water": pool_water}
+
+
+@pytest.fixture(scope="module", params=sorted(PHOTOS))
+def made(request):
+    photo = PHOTOS[request.param]()
     before = photo.copy()
-    out = texsynth.make_tileable(photo, seed=0)
+    out, positions = texsynth.make_tileable_positions(photo, seed=0)
     assert np.array_equal(photo, before)  # input untouched
+    return request.param, photo, out, positions
+
+
+#: Two-sided bounds of the seam ratio and band sharpness on these small images: the measures
+#: vary that much on the photos themselves, taken at random crosses inside them (5-95 %:
+#: 0.85-1.19 for the cracks, 0.87-1.14 for the bricks, 0.88-1.22 for pool_water).
+LOW, HIGH = 0.85, 1.15
+
+
+def _across_band(image, band):
+    """The seam ratio averaged over every line within ``band / 2`` of the wrap: 1 when the band
+    holds no extra line (a cut) and no soft stripe, whatever the wrap line itself crosses."""
+    return float(np.mean([seam_ratio(np.roll(image, (k, k), axis=(0, 1)))
+                          for k in range(-band // 2, band // 2)]))
+
+
+def test_the_result_tiles_without_a_line_across_the_wrap(made):
+    name, photo, out, _ = made
     assert out.shape == photo.shape and out.dtype == np.float32
-    assert seam_ratio(photo) > 2.5
-    assert seam_ratio(out) < 1.3
-    assert seam_ratio(np.tile(out, (2, 2, 1))) < 1.3
-    same = (out == photo).all(axis=2)
-    assert same.mean() >= 0.5
-    h, w = photo.shape[:2]
-    assert same[h // 4:3 * h // 4, w // 4:3 * w // 4].all()  # the centre, untouched
+    band = default_band(photo.shape)
+    if name != "pool_water":  # the sample nearly tiles already (1.07)
+        assert seam_ratio(photo) > 2
+    assert 0.9 <= _across_band(out, band) <= 1.1
+    if name == "bricks":
+        # The wrap lies where the courses put it, mostly inside bricks (flat: 0.5, as any line
+        # through the bricks); no hard line is left.
+        assert seam_ratio(out) <= HIGH
+    else:
+        # Two-sided: a soft line shows as much as a hard one.
+        assert LOW <= seam_ratio(out) <= HIGH
+        assert LOW <= seam_ratio(np.tile(out, (2, 2, 1))) <= HIGH
 
 
-def test_changed_pixels_are_photo_pixels_and_other_maps_follow(photo):
-    out, positions = texsynth.make_tileable_positions(photo, seed=1)
-    assert np.array_equal(texsynth.apply_positions(positions, photo), out)
-    # Kept pixels map to themselves.
-    h, w = photo.shape[:2]
-    i, j = np.mgrid[:h, :w]
-    same = (out == photo).all(axis=2)
-    assert (positions[same, 0] == i[same]).all() and (positions[same, 1] == j[same]).all()
-    # A second map of the material (here a height map of the same size) tiles the same way.
-    height = photo.mean(axis=2)
-    moved = texsynth.apply_positions(positions, height)
-    assert seam_ratio(height) > 2.5 and seam_ratio(moved) < 1.3
+def test_the_band_is_as_sharp_as_the_photo(made):
+    _, photo, out, _ = made
+    band = default_band(photo.shape)
+    assert LOW <= band_sharpness(out, band) <= HIGH
+    assert 0.95 <= gradient_ratio(photo, out) <= 1.05
 
 
-def test_same_seed_same_result_and_bytes_are_read_as_fractions(photo):
-    a = texsynth.make_tileable(photo, seed=4)
-    b = texsynth.make_tileable(photo, seed=4)
-    assert np.array_equal(a, b)
-    as_bytes = np.rint(photo * 255).astype(np.uint8)
-    c = texsynth.make_tileable(as_bytes, seed=4)
-    assert c.dtype == np.float32 and 0.0 <= c.min() and c.max() <= 1.0
-
-
-@pytest.mark.parametrize("band", [16, 32])
-def test_changes_stay_inside_the_band_across_the_edges(photo, band):
-    out = texsynth.make_tileable(photo, band=band)
-    changed = (out != photo).any(axis=2)
+def test_the_band_is_photo_pixels_and_the_rest_is_the_photo(made):
+    _, photo, out, positions = made
+    assert np.array_equal(photo[positions[:, :, 0], positions[:, :, 1]], out)
     h, w = photo.shape[:2]
     i, j = np.mgrid[:h, :w]
+    band = default_band(photo.shape)
     # Distance to the nearest edge, counted from the seam between the last and first pixel.
     to_edge = np.minimum(np.minimum(i + 0.5, h - 0.5 - i), np.minimum(j + 0.5, w - 0.5 - j))
-    assert changed.any()
-    assert not changed[to_edge > band / 2 + 0.5].any()
+    kept = to_edge > band / 2 + 0.5
+    assert np.array_equal(out[kept], photo[kept])
+    assert (positions[kept, 0] == i[kept]).all() and (positions[kept, 1] == j[kept]).all()
+    same = (out == photo).all(axis=2)
+    assert same.mean() >= 0.5
+    assert not same[~kept].all()  # the band did change
+
+
+def test_other_maps_of_the_material_follow():
+    photo = cracked()
+    out, positions = texsynth.make_tileable_positions(photo, seed=1)
+    height = photo.mean(axis=2) ** 2  # a second map of the same material
+    moved = texsynth.apply_positions(positions, height)
+    assert seam_ratio(height) > 2 and LOW <= seam_ratio(moved) <= HIGH
+    assert np.array_equal(moved, out.mean(axis=2) ** 2)
+
+
+def test_the_seed_chooses_the_patches_and_repeats_exactly():
+    photo = cracked(seed=2)
+    a = texsynth.make_tileable(photo, seed=4)
+    assert np.array_equal(a, texsynth.make_tileable(photo, seed=4))
+    assert not np.array_equal(a, texsynth.make_tileable(photo, seed=5))
+
+
+@pytest.mark.parametrize("kind", ["uint8", "uint16", "grey", "rgba"])
+def test_bytes_grey_and_alpha(kind):
+    photo = bricks((96, 128), seed=3)
+    given = {"uint8": np.rint(photo * 255).astype(np.uint8),
+             "uint16": np.rint(photo * 65535).astype(np.uint16),
+             "grey": photo.mean(axis=2),
+             "rgba": np.concatenate([photo, np.ones_like(photo[:, :, :1])], axis=2)}[kind]
+    out, positions = texsynth.make_tileable_positions(given, seed=0)
+    channels = {"grey": 1, "rgba": 4}.get(kind, 3)
+    assert out.shape == (*photo.shape[:2], channels) and out.dtype == np.float32
+    scale = {"uint8": 255, "uint16": 65535}.get(kind, 1)
+    source = np.asarray(given, np.float32).reshape(out.shape) / scale
+    assert np.array_equal(out, source[positions[:, :, 0], positions[:, :, 1]])
+    assert seam_ratio(out) <= HIGH
+    if kind == "rgba":
+        assert (out[:, :, 3] == 1).all()
+
+
+def test_progress_rises_and_cancel_stops_it():
+    photo = cracked()
+    fractions = []
+    texsynth.make_tileable(photo, progress=lambda f, message: fractions.append(f))
+    assert fractions[0] == 0.0 and fractions[-1] == 1.0
+    assert fractions == sorted(fractions) and len(fractions) > 10
+    calls = []
+
+    def cancel(fraction, message):
+        calls.append(fraction)
+        return len(calls) < 5
+
+    with pytest.raises(texsynth.Cancelled):
+        texsynth.make_tileable(photo, progress=cancel)
+    assert len(calls) == 5
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    ({"band": 80}, "more than half"),
-    ({"band": 4}, "patch size"),
+    ({"band": 120}, "more than half"),
+    ({"band": 4}, "between 8 and"),
     ({"band": 2.5}, "whole number"),
     ({"seed": -1}, "seed"),
-    ({"patch_size": 2}, "patch_size"),
 ])
-def test_bad_input_says_what_to_change(photo, kwargs, message):
+def test_bad_input_says_what_to_change_and_changes_nothing(kwargs, message):
+    photo = cracked()
+    before = photo.copy()
     with pytest.raises(ValueError, match=message):
         texsynth.make_tileable(photo, **kwargs)
+    assert np.array_equal(photo, before)
 
 
-def test_a_photo_smaller_than_two_patches_is_refused():
+def test_a_photo_smaller_than_16_pixels_is_refused():
     with pytest.raises(ValueError, match="at least 16 x 16"):
         texsynth.make_tileable(np.zeros((12, 40, 3), np.float32))
+
+
+def test_a_camera_photo_fits_the_default_budgets():
+    """A 4000 x 3000 photo (12 MP) was refused as needing 37 GiB; its cost follows the band."""
+    seconds, peak = predict((3000, 4000, 3))
+    assert 0.3 * 2**30 < peak < 2 * 2**30  # the result, its positions and the band's strips
+    assert seconds < 600

@@ -1,43 +1,82 @@
-"""Make a photo itself tile: keep its pixels, re-synthesize only a band across the wrap.
+"""Make a photo itself tile: keep its pixels, quilt a band across the wrap from its own patches.
 
-The photo is rolled by half its size, so the wrap-around seam becomes a cross through the
-middle and the photo's own centre lands on the corners, where the rolled image wraps without a
-seam. The pixels farther than half a band width from the cross are kept exactly; the cross band
-is re-synthesized by texture optimisation (Kwatra et al. 2005, with PatchMatch, Barnes et al.
-2009: ``texsynth.algorithms.texture_optimization.optimize``), each band patch taken from the
-photo's own patches and the kept pixels held fixed as constraints, so the band continues the
-kept content on both sides. Rolling back gives a photo that tiles: its wrap edge is the middle of
-the re-synthesized band, and its centre is the photo's, untouched.
+Seen rolled by half its size, a photo's wrap-around seam is a cross through the middle. Each
+arm of the cross (a band of ``band`` pixels: a horizontal arm along the width, a vertical arm
+along the height) is covered by image quilting, Efros & Freeman 2001, "Image quilting for
+texture synthesis and transfer" (``texsynth.blocks.quilting``):
 
-The result is made of photo pixels only, and the position map says which: apply it to the
-other maps of the material (normal, roughness, height of the same size) and they tile with it.
+- 2.1, patch choice: square-ish photo patches are laid along the arm in two rows, each
+  overlapping its neighbour by a quarter patch and the arm's wrap closing on the first patch.
+  The first row covers ``band / 4`` kept rows before the band, the band's first half and a
+  quarter band past the seam; the second row the rest, back over the first by half the band.
+  Each patch is chosen by its SSD with what is already fixed where it overlaps it: the kept
+  photo beyond the seam's side it continues (the rows outside the band and the band's outer
+  quarter), its neighbour along the arm, and (second row) the first row: at random among the
+  ``CANDIDATES`` best within ``TOLERANCE`` of the best;
+- 2.1, minimum error boundary cut: each patch meets its neighbour along a DP path through
+  their overlap; the first row meets the kept photo along a DP path in the band's outer
+  quarter, the second row the first row in the band's middle half and the kept photo in the
+  band's other outer quarter: each a closed loop around the torus;
+- the vertical arm is quilted over the photo with the horizontal arm in, so at the crossing it
+  continues the horizontal arm.
+
+The wrap line lies inside whole copied patches: it is no seam any more. What remains are the
+cuts, placed where the two sides agree; the middle cut absorbs what no single patch could,
+such as courses of bricks whose count does not fit the photo's height (a course a little
+shorter, cut along a joint). Pixels are copied whole, never averaged: the band is as sharp as
+the photo, and the position map is exact (``texsynth.apply_positions`` makes the other maps of
+the material tile the same way; the kept pixels map to themselves).
+
+Deviations, one line each:
+- two rows of patches across the band (Efros & Freeman fill a raster of patches; the two rows
+  are its two-row case, each row continuing its own side of the seam);
+- the candidates are searched on the photo's block means (``f`` x ``f`` blocks, a patch about
+  ``COARSE`` blocks across), the best few refined at full resolution within ``f`` pixels;
+- the patches come from the part of the photo that is kept (farther than ``band / 2`` from its
+  edges): edge defects inside the band (a ledge, a vignette) are replaced, never copied;
+- a source window more than half covered by one already used is not chosen again (no visible
+  repeats along the band);
+- no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
+  the photo's edges is unchanged, and every changed pixel is a photo pixel.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
 from . import budget, validation
-from .algorithms.texture_optimization import METHOD, optimize
+from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
 __all__ = ["make_tileable", "make_tileable_positions", "default_band", "predict"]
 
-#: Patch descriptor (cells, dims): coarser than the method's default, for seconds at 1024^2.
-DESCRIPTOR = (4, 16)
-#: The photo's edge margin left out of the sources: band width / MARGIN, at least half a patch.
-MARGIN = 8
+#: Narrowest band accepted, and the default band's least width (pixels).
+MIN_BAND, DEFAULT_MIN = 8, 16
+#: Smallest photo side accepted.
+MIN_SIDE = 16
 #: Largest share of the photo a band may change (the issue asks at least half unchanged).
 MAX_CHANGED = 0.5
+#: As fractions of the band: the kept rows matched beyond it on either side, its outer rows
+#: where the cuts with the photo go, and the half-overlap of the two rows of patches.
+CONTEXT, CUT, MIDDLE = 1 / 4, 1 / 4, 1 / 4
+#: Overlap of neighbouring patches along an arm, as a fraction of the patch.
+OVERLAP = 1 / 4
+#: Patch side in blocks at the search scale.
+COARSE = 32
+#: Placements refined at full resolution for each patch.
+CANDIDATES = 4
+#: Efros & Freeman's error tolerance: candidates within (1 + TOLERANCE) x the best SSD.
+TOLERANCE = 0.1
 
 
-def default_band(shape, patch_size: int = 8) -> int:
-    """The band width used when none is given: an eighth of the shorter side, at least two
-    patches, and never so wide that more than half of the photo would change."""
+def default_band(shape) -> int:
+    """The band width used when none is given: an eighth of the shorter side, at least
+    ``DEFAULT_MIN`` pixels, and never so wide that more than half of the photo would change."""
     side = min(shape[:2])
-    return int(min(max(side // 8, 2 * patch_size), _widest(shape)))
+    return int(min(max(side // 8, DEFAULT_MIN), _widest(shape)))
 
 
 def _widest(shape) -> int:
@@ -47,19 +86,263 @@ def _widest(shape) -> int:
     return int(((h + w) - np.sqrt((h + w) ** 2 - 4 * MAX_CHANGED * h * w)) / 2)
 
 
+@dataclass(frozen=True)
+class _Layout:
+    """Where the patches go, for an (h, w) photo and a band of ``b`` pixels.
+
+    Across an arm, ``side`` rows: ``m`` kept rows, the band (``top`` rows before the seam,
+    its outer ``c`` rows on either side where the cuts with the photo go), ``m`` kept rows;
+    the two rows of patches overlap on the ``d`` rows either side of the seam. Along the arm,
+    patches overlap by ``overlap``; ``f`` is the search's block size, ``e`` the photo's edge
+    left out of the sources."""
+
+    h: int
+    w: int
+    b: int
+
+    @property
+    def top(self) -> int:
+        return self.b // 2
+
+    @property
+    def m(self) -> int:
+        return min(int(self.b * CONTEXT), (min(self.h, self.w) - self.b) // 2)
+
+    @property
+    def side(self) -> int:
+        return self.b + 2 * self.m
+
+    @property
+    def d(self) -> int:
+        return max(1, int(self.b * MIDDLE))
+
+    @property
+    def c(self) -> int:
+        return max(1, int(self.b * CUT))
+
+    @property
+    def e(self) -> int:
+        return max(0, min(self.b // 2, (min(self.h, self.w) - self.side) // 2))
+
+    @property
+    def overlap(self) -> int:
+        return max(2, int(self.side * OVERLAP))
+
+    @property
+    def f(self) -> int:
+        return max(1, self.side // COARSE)
+
+    def starts(self, length: int) -> np.ndarray:
+        """The patches' first pixels along an arm of ``length``, and the first one again plus
+        ``length``: the last patch's overlap is centred on the crossing of the arms."""
+        n = max(2, -(-length // (self.side - self.overlap)))
+        return -(self.overlap // 2) + np.rint(np.arange(n + 1) * length / n).astype(int)
+
+
+class _Source:
+    """The photo (or its transpose, for the vertical arm) as the patches' source: the search
+    for the patch that fits a template, and a patch's pixels and photo positions."""
+
+    def __init__(self, image: np.ndarray, coarse: np.ndarray | None, f: int, e: int,
+                 swap: bool):
+        self.image, self.f, self.e, self.swap = image, f, e, swap
+        self.search = Search(coarse if f > 1 else image)
+
+    def _excluded(self, shape, ph, pw, used) -> np.ndarray:
+        """Placements (on the search's grid) whose window is more than half covered by a used
+        window, in each direction."""
+        f = self.f
+        y = np.arange(shape[0])[:, None] * f + self.e
+        x = np.arange(shape[1])[None, :] * f + self.e
+        out = np.zeros(shape, bool)
+        for uy, ux, uh, uw in used:
+            if self.swap:
+                uy, ux, uh, uw = ux, uy, uw, uh
+            out |= (np.abs(y - uy) * 2 < min(ph, uh)) & (np.abs(x - ux) * 2 < min(pw, uw))
+        return out
+
+    def choose(self, template, mask, rng, used) -> tuple[int, int]:
+        """The patch origin, in this source's coordinates, for ``template`` weighted by
+        ``mask``: the ``CANDIDATES`` best placements on the search's grid (apart from each
+        other, none more than half covered by a ``used`` window) refined at full resolution,
+        then one of those within the tolerance of the best, at random."""
+        ph, pw = mask.shape
+        f = self.f
+        if f > 1:
+            ssd = self.search.ssd(block_means(template, f), block_means(mask[:, :, None], f)[
+                :, :, 0])
+        else:
+            ssd = self.search.ssd(template, mask)
+        excluded = self._excluded(ssd.shape, ph, pw, used)
+        if excluded.all():
+            excluded[:] = False
+        ssd[excluded] = np.inf
+        h, w = self.image.shape[:2]
+        found, prepared = [], None
+        for _ in range(CANDIDATES):
+            y, x = np.unravel_index(ssd.argmin(), ssd.shape)
+            if not np.isfinite(ssd[y, x]):
+                break
+            ssd[max(0, y - ph // (4 * f)):y + ph // (4 * f) + 1,
+                max(0, x - pw // (4 * f)):x + pw // (4 * f) + 1] = np.inf
+            # The same window size for every candidate: the template's spectra are reused.
+            y0 = max(0, min(y * f - f, h - ph - 2 * f))
+            x0 = max(0, min(x * f - f, w - pw - 2 * f))
+            fine = Search(self.image[y0:y0 + ph + 2 * f, x0:x0 + pw + 2 * f])
+            prepared = prepared or fine.prepare(template, mask)
+            errors = fine.ssd(template, mask, prepared)
+            dy, dx = np.unravel_index(errors.argmin(), errors.shape)
+            found.append((errors[dy, dx], y0 + int(dy), x0 + int(dx)))
+        errors = np.array([e for e, _, _ in found])
+        near = np.flatnonzero(errors <= errors.min() * (1 + TOLERANCE))
+        _, y, x = found[near[rng.integers(len(near))]]
+        return y, x
+
+    def patch(self, y, x, ph, pw) -> tuple[np.ndarray, np.ndarray]:
+        """The (ph, pw) patch at (y, x) and its photo positions (row, col), int32."""
+        i, j = np.meshgrid(np.arange(y, y + ph, dtype=np.int32) + self.e,
+                           np.arange(x, x + pw, dtype=np.int32) + self.e, indexing="ij")
+        where = np.stack([j, i] if self.swap else [i, j], axis=2)
+        return self.image[y:y + ph, x:x + pw], where
+
+    def window(self, y, x, ph, pw) -> tuple[int, int, int, int]:
+        """The patch's window in photo coordinates (row, col, rows, cols)."""
+        y, x = y + self.e, x + self.e
+        return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
+
+
+def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used):
+    """One row of patches quilted along the arm over rows ``lo .. hi - 1`` of ``current``
+    (side, length, C): each patch matched to ``current`` on the rows ``matched`` and to its
+    neighbours in the overlaps, cut against them (the error counted on the rows ``counted``).
+    Returns the layer (hi - lo, length, C) and its positions."""
+    length = current.shape[1]
+    strip, at = current[lo:hi].copy(), current_at[lo:hi].copy()
+    ph = hi - lo
+    starts = lay.starts(length)
+    n, ov = len(starts) - 1, lay.overlap
+    for k in range(n):
+        pw = starts[k + 1] - starts[k] + ov
+        cols = (starts[k] + np.arange(pw)) % length
+        template = strip[:, cols]
+        mask = np.repeat(matched[:, None], pw, axis=1).astype(np.float32)
+        if k > 0:
+            mask[:, :ov] = 1
+        if k == n - 1:
+            mask[:, -ov:] = 1
+        y, x = source.choose(template, mask, rng, used)
+        used.append(source.window(y, x, ph, pw))
+        patch, where = source.patch(y, x, ph, pw)
+        # Efros & Freeman 2.1: the cuts through the overlaps with the neighbours.
+        e = np.einsum("ijc,ijc->ij", patch - template, patch - template) * counted[:, None]
+        new = np.ones((ph, pw), bool)
+        if k > 0:
+            new[:, :ov] = np.arange(ov) >= min_error_path(e[:, :ov])[:, None]
+        if k == n - 1:
+            new[:, pw - ov:] &= np.arange(ov) <= min_error_path(e[:, pw - ov:])[:, None]
+        strip[:, cols] = np.where(new[:, :, None], patch, template)
+        at[:, cols] = np.where(new[:, :, None], where, at[:, cols])
+        report((k + 1) / n, "Make tileable: quilting")
+    return strip, at
+
+
+def _cut(a, b, lo, hi):
+    """The closed minimum error cut between arm contents ``a`` and ``b`` through rows
+    ``lo .. hi - 1``: its row at each position along the arm."""
+    e = np.einsum("ijc,ijc->ij", a[lo:hi] - b[lo:hi], a[lo:hi] - b[lo:hi])
+    return lo + min_error_path(e.T, closed=True)
+
+
+def _arm(kept, kept_at, source, lay, rng, report, used):
+    """One arm quilted: ``kept`` (side, length, C) is the photo across the arm (the seam
+    between rows ``m + top - 1`` and ``m + top``, the band rows ``m .. m + b - 1``),
+    ``kept_at`` its positions. Two rows of patches: the first continues the photo before the
+    seam past it, the second the photo after the seam back over the first; they meet along
+    a cut in the middle of the band, and the photo along a cut on either side. Returns the
+    arm and its positions."""
+    side = len(kept)
+    seam, d, c = lay.m + lay.top, lay.d, lay.c
+    inner, outer = lay.m + c, lay.m + lay.b - c
+    rows = np.arange(side)
+    first, first_at = _layer(kept, kept_at, 0, seam + d, rows[:seam + d] < inner,
+                             rows[:seam + d] >= lay.m, source, lay, rng, report.span(0, 0.5),
+                             used)
+    current, current_at = kept.copy(), kept_at.copy()
+    current[:seam + d], current_at[:seam + d] = first, first_at
+    below = rows[seam - d:]
+    second, second_at = _layer(current, current_at, seam - d, side,
+                               (below < seam + d) | (below >= outer), below < lay.m + lay.b,
+                               source, lay, rng, report.span(0.5, 0.95), used)
+    current[seam - d:], current_at[seam - d:] = second, second_at
+    top = _cut(first, kept, lay.m, inner)
+    middle = _cut(first, current, seam - d, seam + d)
+    bottom = _cut(current, kept, outer, lay.m + lay.b)
+    r = rows[:, None]
+    out = np.where(((r < top) | (r > bottom))[:, :, None], kept, current)
+    out_at = np.where(((r < top) | (r > bottom))[:, :, None], kept_at, current_at)
+    upper = ((r >= top) & (r < middle))[:seam + d, :, None]
+    out[:seam + d] = np.where(upper, first, out[:seam + d])
+    out_at[:seam + d] = np.where(upper, first_at, out_at[:seam + d])
+    report(1.0, "Make tileable: cuts")
+    return out, out_at
+
+
 def predict(shape, band: int | None = None) -> tuple[float, float]:
     """(seconds on this machine, peak bytes) predicted for :func:`make_tileable` of a photo of
-    ``shape`` (H, W[, C]) with ``band`` (default :func:`default_band`), at the default
-    settings: what the budgets check and the Blender panel shows."""
-    shape = tuple(shape) if len(shape) == 3 else (*shape[:2], 1)
+    ``shape`` (H, W[, C]) with ``band`` (default :func:`default_band`): what the budgets check
+    and the Blender panel shows.
+
+    Examples
+    --------
+    >>> seconds, peak = predict((1024, 1024, 3))
+    >>> peak < 2**30
+    True
+    """
     h, w = shape[:2]
-    values = METHOD.resolve({})
-    return (budget.predict(METHOD, shape, w, h, values), float(METHOD.memory(shape, w, h, values)))
+    c = shape[2] if len(shape) == 3 else 1
+    lay = _Layout(h, w, default_band((h, w)) if band is None else band)
+    return _cost(lay, c) * budget.machine_factor(), _memory(lay, c)
+
+
+def _work(lay: _Layout) -> tuple[int, float, float, float]:
+    """Patches, and the elements their searches transform (per channel plus two: the mask
+    and the squares): on the block means, and in the ``CANDIDATES`` refinement windows; and
+    the steps of the cuts' dynamic programmes (a Python step each)."""
+    f, e = lay.f, lay.e
+    patches = coarse = refine = steps = 0.0
+    for length in (lay.h, lay.w):
+        n = len(lay.starts(length)) - 1
+        ph, pw = lay.m + lay.top + lay.d, length / n + lay.overlap
+        patches += 2 * n
+        refine += 2 * n * CANDIDATES * (ph + 2 * f) * (pw + 2 * f)
+        steps += 2 * n * ph + 6 * length
+    coarse = patches * ((lay.h - 2 * e) // f) * ((lay.w - 2 * e) // f)
+    return int(patches), coarse, refine, steps
+
+
+def _cost(lay: _Layout, c: int) -> float:
+    """Seconds on the reference machine: the searches' FFTs and the cuts' steps (:func:`_work`;
+    fitted on 512^2 to 4000 x 3000 photos with default and narrow bands, the refinement's share
+    from a profile at 4000 x 3000, where it is about 40 %); the photo-sized copies are a small
+    part."""
+    _, coarse, refine, steps = _work(lay)
+    return 0.023 + (4.2e-8 * coarse + 2.5e-8 * refine) * (c + 2) + 1.1e-4 * steps
+
+
+def _memory(lay: _Layout, c: int) -> float:
+    """Peak bytes: the result and its positions (the photo's size: float32 channels and two
+    int32), an arm's strips and positions (about five copies: the photo across the arm, the
+    two rows of patches, the result), the block means (float64) and the search's spectra
+    (complex128, per channel and the squares). A photo given as bytes adds its float32 copy."""
+    h, w, side, f, e = lay.h, lay.w, lay.side, lay.f, lay.e
+    photo = h * w * (4 * c + 8)
+    arm = 5 * side * max(h, w) * (4 * c + 8)
+    search = (h // f) * w * c * 8 + ((h - 2 * e) // f) * ((w - 2 * e) // f) * (c + 1) * 16 * 2
+    return float(photo + arm + search)
 
 
 def make_tileable(photo, *, band: int | None = None, seed: int = 0,
-                  progress: Callable[[float, str], object] | None = None, patch_size: int = 8,
-                  levels: int = 3, iterations: int = 3, uniformity: float = 2.0) -> np.ndarray:
+                  progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """``photo`` made to tile, float32 of the photo's size and channels.
 
     Parameters
@@ -67,74 +350,88 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     photo : array (H, W) or (H, W, C), C in 1, 3, 4
         Floats as they are, uint8/uint16 scaled to [0, 1] (as ``texsynth.synthesize``).
     band : int, optional
-        Width in pixels of the re-synthesized band across the wrap (each arm of the cross);
-        default :func:`default_band`. Wider bands hide larger features; at most half of the
-        photo may change.
+        Width in pixels of the band quilted across the wrap (each arm of the cross); default
+        :func:`default_band`. Wider bands hide larger features; at most half of the photo may
+        change.
     seed : int
-        Same inputs and seed give bit-identical output.
+        Same inputs and seed give bit-identical output; other seeds choose other patches.
     progress : callable(fraction, message), optional
         As for ``texsynth.synthesize``; returning ``False`` cancels (``texsynth.Cancelled``).
-    patch_size, levels, iterations, uniformity
-        The texture optimisation's (see ``texsynth.get_method("texture_optimization")``).
 
-    Every pixel farther than ``band / 2`` from the photo's edges is returned unchanged.
+    Returns
+    -------
+    numpy.ndarray
+        Every pixel farther than ``band / 2`` from the photo's edges unchanged; the band made
+        of whole photo pixels.
+
+    References
+    ----------
+    Efros & Freeman 2001, 2.1 (see the module's docstring).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> photo = rng.random((64, 96, 3)).astype(np.float32)
+    >>> tile = make_tileable(photo, seed=1)
+    >>> tile.shape, bool((tile[24:40, 24:72] == photo[24:40, 24:72]).all())
+    ((64, 96, 3), True)
     """
-    return make_tileable_positions(photo, band=band, seed=seed, progress=progress,
-                                   patch_size=patch_size, levels=levels, iterations=iterations,
-                                   uniformity=uniformity)[0]
+    return make_tileable_positions(photo, band=band, seed=seed, progress=progress)[0]
 
 
 def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
-                            progress: Callable[[float, str], object] | None = None,
-                            patch_size: int = 8, levels: int = 3, iterations: int = 3,
-                            uniformity: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
+                            progress: Callable[[float, str], object] | None = None
+                            ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`make_tileable` and its position map, int32 (H, W, 2) (row, col) into the photo:
     ``texsynth.apply_positions(positions, other_map)`` makes another map of the material tile
-    the same way (the kept pixels map to themselves)."""
-    values = METHOD.resolve({"patch_size": patch_size, "levels": levels,
-                             "iterations": iterations, "uniformity": uniformity})
-    a = validation.image(photo, what="photo", min_side=2 * values["patch_size"])
+    the same way (the kept pixels map to themselves).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> photo = np.random.default_rng(0).random((48, 48)).astype(np.float32)
+    >>> tile, positions = make_tileable_positions(photo)
+    >>> bool((texsynth.apply_positions(positions, photo) == tile[:, :, 0]).all())
+    True
+    """
+    a = validation.image(photo, what="photo", min_side=MIN_SIDE)
     seed = validation.seed(seed)
-    h, w = a.shape[:2]
+    h, w, c = a.shape
     widest = _widest((h, w))
-    band = default_band((h, w), values["patch_size"]) if band is None else \
-        validation.whole(band, "band (pixels)", 1)
-    if not values["patch_size"] <= band <= widest:
-        raise ValueError(f"band must be between the patch size ({values['patch_size']}) and "
-                         f"{widest} pixels (wider would change more than half of the "
-                         f"{w} x {h} photo), got {band}")
+    band = default_band((h, w)) if band is None else validation.whole(band, "band (pixels)", 1)
+    if not MIN_BAND <= band <= widest:
+        raise ValueError(f"band must be between {MIN_BAND} and {widest} pixels (wider would "
+                         f"change more than half of the {w} x {h} photo), got {band}")
     what = f"making the {w} x {h} photo tileable"
-    validation.check_memory(METHOD.memory(a.shape, w, h, values), what)
-    budget.check_time(budget.predict(METHOD, a.shape, w, h, values), what,
-                      "try a smaller photo or a narrower band")
+    seconds, peak = predict(a.shape, band)
+    validation.check_memory(peak, what, "a narrower band")
+    budget.check_time(seconds, what, "try a smaller photo or a narrower band")
     report = Progress(progress)
     report(0.0, "Make tileable: starting")
 
-    # The rolled photo: pixel (i, j) shows photo pixel (i - sh, j - sw); the seam is the cross
-    # between rows sh - 1, sh and columns sw - 1, sw.
-    sh, sw = h // 2, w // 2
-    i = np.arange(h)[:, None]
-    j = np.arange(w)[None, :]
-    where = np.stack(np.broadcast_arrays((i - sh) % h, (j - sw) % w), axis=2).astype(np.int32)
-    start_r, start_c = sh - band // 2, sw - band // 2
-    cross = (((i >= start_r) & (i < start_r + band)) | ((j >= start_c) & (j < start_c + band)))
     rng = np.random.default_rng(seed)
-    # Sources: the photo without a margin of m pixels along its edges, so no band patch copies
-    # the photo's own edge: the band's content then crosses the wrap instead of ending on it
-    # (with the edge as a source, the photo's continuation meets its other side exactly on the
-    # wrap line, the seam we hide). The band starts as the rolled photo, except within m of the
-    # seam (the margin), which starts from random photo pixels.
-    m = max(values["patch_size"] // 2, band // MARGIN)
-    source = a[m:h - m, m:w - m]
-    start = where - m
-    near = ((i >= sh - m) & (i < sh + m)) | ((j >= sw - m) & (j < sw + m))
-    near = np.broadcast_to(near, (h, w))
-    start[near] = np.stack([rng.integers(0, h - 2 * m, near.sum()),
-                            rng.integers(0, w - 2 * m, near.sum())], axis=1)
-    _, positions = optimize(source, h, w, rng, report.span(0.0, 0.99), values["levels"],
-                            values["patch_size"], 1, values["iterations"], values["uniformity"],
-                            known=(~cross, start), descriptor=DESCRIPTOR)
-    positions = np.roll(positions + m, (-sh, -sw), axis=(0, 1))
-    out = a[positions[:, :, 0], positions[:, :, 1]]
+    lay = _Layout(h, w, band)
+    out = a.copy()
+    positions = np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
+    e = lay.e
+    inside = a[e:h - e, e:w - e]
+    coarse = block_means(inside, lay.f) if lay.f > 1 else None
+    used: list[tuple[int, int, int, int]] = []
+    # The seam between the last and first rows (columns) is row m + top of the arm's strip;
+    # the band is rows m .. m + b - 1.
+    band_rows = slice(lay.m, lay.m + band)
+    rows = (np.arange(lay.side) - lay.top - lay.m) % h
+    across = _Source(inside, coarse, lay.f, e, swap=False)
+    strip, at = _arm(a[rows], positions[rows], across, lay, rng, report.span(0.02, 0.5), used)
+    out[rows[band_rows]] = strip[band_rows]
+    positions[rows[band_rows]] = at[band_rows]
+
+    cols = (np.arange(lay.side) - lay.top - lay.m) % w
+    down = _Source(inside.transpose(1, 0, 2),
+                   None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
+    strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
+                     down, lay, rng, report.span(0.5, 0.99), used)
+    out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
+    positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
     report(1.0, "Make tileable: done")
-    return np.ascontiguousarray(out), np.ascontiguousarray(positions)
+    return out, positions
