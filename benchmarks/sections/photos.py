@@ -327,7 +327,10 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         if has_gimp:
             runs["GIMP"] = _job(tmp, p.env, "gimp", key)
         if rs.missing is None and key in p.resynth:
-            runs["Resynth."] = _job(tmp, p.env, "resynth", key, timeout=RESYNTH_LIMIT)
+            # The peer's runs do not depend on texsynth's code: kept across its versions.
+            peer_runs = tmp.parent / "peers"
+            peer_runs.mkdir(parents=True, exist_ok=True)
+            runs["Resynth."] = _job(peer_runs, p.env, "resynth", key, timeout=RESYNTH_LIMIT)
         seam = metrics.seam_ratio(image)
         tiling += TARGET[0] <= seam <= TARGET[1]
         table.append(f"| **{label(key)}**, {w} x {h}, band {band} | photo as it is | | | | | | "
