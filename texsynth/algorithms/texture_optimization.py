@@ -37,6 +37,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter
 
 from ..blocks.patchmatch import CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
+from ..blocks.period import texel_size
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
@@ -45,6 +46,10 @@ __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
 R = 0.8
 #: PatchMatch iterations per EM iteration.
 MATCH_ITERATIONS = 2
+#: Exemplar patches a level's search table holds before they are taken on a lattice.
+SOURCES = 1 << 21
+#: The fewest levels the automatic choice gives (the former default).
+MIN_LEVELS = 3
 
 
 def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
@@ -57,6 +62,23 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
+def auto_levels(exemplar, patch):
+    """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
+    the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``."""
+    texel = texel_size(exemplar)
+    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / patch)))))
+
+
+def stride(shape, p) -> int:
+    """The lattice spacing of the exemplar patches searched at patch size ``p``: 1, or for an
+    exemplar of more than ``SOURCES`` pixels the power of two that brings it under, at most the
+    output grid step p / 4 (propagation's offsets then stay on the lattice)."""
+    s = 1
+    while (shape[0] // s) * (shape[1] // s) > SOURCES and 2 * s <= p // 4:
+        s *= 2
+    return s
+
+
 def _downsample(image):
     """2 x 2 block means (an odd last row or column dropped)."""
     h, w = image.shape[0] // 2 * 2, image.shape[1] // 2 * 2
@@ -64,7 +86,7 @@ def _downsample(image):
     return 0.25 * (a[0::2, 0::2] + a[1::2, 0::2] + a[0::2, 1::2] + a[1::2, 1::2])
 
 
-def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, sizes=2,
+def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
              iterations=3, uniformity=2.0, known=None, descriptor=(CELLS, DIMS)):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
 
@@ -72,6 +94,8 @@ def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, siz
     (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
     that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
     """
+    if levels == 0:
+        levels = auto_levels(exemplar, patch_size << (sizes - 1))
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
     pyramid = [exemplar]
     for _ in range(n_levels - 1):
@@ -175,22 +199,22 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
     return image.reshape(hh, ww, c)
 
 
-def _winners(z, nnf, grid, average, positions, unknown, tick):
-    """Each free pixel's exemplar pixel: among the patch pixels voted onto it, the one nearest
-    the weighted average; ``tick()`` after each patch pixel (u, v)."""
+def _collage(z, nnf, score, grid, positions, unknown, tick):
+    """E-step without averaging: each free pixel takes the exemplar pixel voted by its best
+    overlapping patch, the one of highest ``score`` (log IRLS weight) plus a Gaussian falloff
+    from the patch centre (Kaspar et al. 2015, 5: sigma a grid step); ``tick()`` after each
+    patch pixel (u, v). Returns the new positions."""
     hh, ww = grid.shape
-    c = z.shape[2]
-    flat_z = z.reshape(-1, c)
-    flat_avg = average.reshape(-1, c)
     sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
-    best = np.full(hh * ww, np.inf, np.float32)
+    centre = (grid.p - 1) / 2
+    sigma = max(1, grid.p // 4)
+    best = np.full(hh * ww, -np.inf, np.float32)
     source = np.zeros(hh * ww, np.int64)
     for u, v, target in grid.offsets():
         s = (sr + u) * z.shape[1] + sc + v
-        diff = flat_z[s] - flat_avg[target]
-        d = np.einsum("ij,ij->i", diff, diff)
-        better = d < best[target]
-        best[target[better]] = d[better]
+        here = score - np.float32(((u - centre) ** 2 + (v - centre) ** 2) / (2 * sigma ** 2))
+        better = here > best[target]
+        best[target[better]] = here[better]
         source[target[better]] = s[better]
         tick()
     covered = np.isfinite(best).reshape(hh, ww)
@@ -205,10 +229,12 @@ def _winners(z, nnf, grid, average, positions, unknown, tick):
 
 def _usage_penalty(nnf, grid, features, cost, uniformity):
     """Kaspar et al.'s occurrence term: uses of the exemplar patches near each patch z (a box of
-    the grid step), over the uniform usage, beyond 1, times lambda and the median distance."""
+    the grid step), over the uniform usage, beyond 1, times lambda and the median distance; on
+    the lattice of ``features``."""
     hs, ws = features.shape
-    step = max(1, grid.p // 4)
-    flat = nnf[grid.index][:, 0] * ws + nnf[grid.index][:, 1]
+    s = features.stride
+    step = max(1, grid.p // 4 // s)
+    flat = nnf[grid.index][:, 0] // s * ws + nnf[grid.index][:, 1] // s
     uses = np.bincount(flat, minlength=hs * ws).reshape(hs, ws).astype(np.float32)
     near = uniform_filter(uses, size=step, mode="constant") * step * step
     uniform = max(1.0, len(flat) * step * step / (hs * ws))
@@ -219,24 +245,26 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
 def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
                    descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
-    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label))
+    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label),
+                             stride=stride(z.shape, p))
     hs, ws = features.shape
+    s = features.stride
     unknown = None if fixed is None else ~fixed[0]
     grid = _Grid(shape, p, unknown)
-    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
     if positions is None:  # Kwatra's start: random exemplar patches, side by side
         i = np.arange(shape[0])[:, None]
         j = np.arange(shape[1])[None, :]
-        corner_r = rng.integers(0, hs, (-(-shape[0] // p), -(-shape[1] // p)))
-        corner_c = rng.integers(0, ws, corner_r.shape)
+        corner_r = s * rng.integers(0, hs, (-(-shape[0] // p), -(-shape[1] // p)))
+        corner_c = s * rng.integers(0, ws, corner_r.shape)
         positions = np.stack([corner_r[i // p, j // p] + i % p, corner_c[i // p, j // p] + j % p],
                              axis=2).astype(np.int32)
         if fixed is not None:
             positions[fixed[0]] = fixed[1][fixed[0]]
     nnf = positions[np.ix_(grid.rows, grid.cols)].copy()
-    nnf[:, :, 0] = np.minimum(nnf[:, :, 0], hs - 1)
-    nnf[:, :, 1] = np.minimum(nnf[:, :, 1], ws - 1)
+    nnf[:, :, 0] = np.minimum(nnf[:, :, 0] // s, hs - 1) * s
+    nnf[:, :, 1] = np.minimum(nnf[:, :, 1] // s, ws - 1) * s
     image = z[positions[:, :, 0], positions[:, :, 1]]
+    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
     penalty = None
     for it in range(iterations):
         progress(it / iterations, label)
@@ -245,21 +273,24 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
             progress(fraction, label)
 
         target = features.describe(image, grid.top, grid.left, tick)
-        cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
-                          MATCH_ITERATIONS, grid.index, penalty, tick)
-        if penalty is not None:
-            cost = cost - penalty[nnf[grid.index][:, 0], nnf[grid.index][:, 1]]
+        total = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
+                           MATCH_ITERATIONS, grid.index, penalty, tick)
+        cost = total if penalty is None else \
+            total - penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
         if uniformity > 0:
             penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
             tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
-        weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
-        image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
-    return _winners(z, nnf, grid, image, positions, unknown,
-                    lambda: progress(1.0, label))
+        if it < iterations - 1:
+            weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
+            image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
+    if penalty is not None:  # the final pass sees the usage of the last matches
+        total = cost + penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
+    score = ((R - 2) / 2 * np.log(np.maximum(total, 0) + eps)).astype(np.float32)
+    return _collage(z, nnf, score, grid, positions, unknown, lambda: progress(1.0, label))
 
 
-def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch_size=8,
+def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
                          sizes=2, iterations=3, uniformity=2.0):
     """Synthesize (height, width, C) and its position map; see the module notes."""
     if min(exemplar.shape[:2]) < patch_size:
@@ -303,8 +334,9 @@ METHOD = register(Method(
                 "2015): keeps long structures such as cracks, mortar lines and weaves",
     function=texture_optimization,
     params=(
-        Param("levels", int, 3, "Resolution levels, coarse to fine (capped by the exemplar and "
-              "output sizes)", 1, 6),
+        Param("levels", int, 0, "Resolution levels, coarse to fine (capped by the exemplar and "
+              "output sizes); 0: enough for the largest patch at the coarsest level to span the "
+              "exemplar's texels", 0, 8),
         Param("patch_size", int, 8, "Smallest patch side (pixels); each level also runs the "
               "larger sizes first", 4, 64),
         Param("sizes", int, 2, "Patch sizes per level, each twice the next, large to small", 1,
