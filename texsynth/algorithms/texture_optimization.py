@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
-from ..blocks.patchmatch import CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
+from ..blocks.patchmatch import BLOCK_ROWS, CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
 from ..blocks.period import texel_size
 from ..registry import Method, Param, register
 
@@ -48,6 +48,15 @@ R = 0.8
 MATCH_ITERATIONS = 2
 #: Exemplar patches a level's search table holds before they are taken on a lattice.
 SOURCES = 1 << 21
+#: Memory model (bytes an output pixel, and per channel) and cost model (reference seconds an
+#: output pixel at two sizes, and a search table's lattice point): see ``_memory``, ``_cost``.
+MEM_OUT, MEM_OUT_C = 100, 16
+COST_OUT, COST_TABLE = 3.2e-5, 2.5e-5
+#: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
+#: ``iterations``: there the layout (rows, joints) is decided.
+COARSE = 2
+#: The most pixels the texel size is measured on (a larger photo: on its pyramid).
+PROBE = 1 << 20
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 3
 
@@ -62,10 +71,13 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
-def auto_levels(exemplar, patch):
+def auto_levels(pyramid, patch):
     """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
-    the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``."""
-    texel = texel_size(exemplar)
+    the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``; the texel is
+    measured on the first level of the exemplar's ``pyramid`` within ``PROBE`` pixels."""
+    lv = next((k for k, z in enumerate(pyramid) if z.shape[0] * z.shape[1] <= PROBE),
+              len(pyramid) - 1)
+    texel = texel_size(pyramid[lv]) * 2 ** lv
     return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / patch)))))
 
 
@@ -94,12 +106,14 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
     that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
     """
-    if levels == 0:
-        levels = auto_levels(exemplar, patch_size << (sizes - 1))
-    n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
-    pyramid = [exemplar]
-    for _ in range(n_levels - 1):
+    progress(0.0, "analysing the exemplar")
+    pyramid = [exemplar]  # built once, to the most levels any choice may use
+    for _ in range(level_count(exemplar.shape, width, height, patch_size, 8) - 1):
         pyramid.append(_downsample(pyramid[-1]))
+    if levels == 0:
+        levels = auto_levels(pyramid, patch_size << (sizes - 1))
+    n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
+    del pyramid[n_levels:]
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
@@ -119,7 +133,8 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                 positions = fixed[1].copy()  # the free pixels start from the given positions
             else:
                 positions[fixed[0]] = fixed[1][fixed[0]]
-        positions = _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity,
+        positions = _optimize_size(z, shape, p, positions, fixed, rng,
+                                   iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
                                    f"level {lv}, patch {p}", descriptor)
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
@@ -304,26 +319,36 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
                     iterations, uniformity)
 
 
+def _tables(shape, params):
+    """(rows, cols) of the finest level's search table at each patch size (``stride``)."""
+    h, w = shape[:2]
+    sizes = [params["patch_size"] << k for k in range(params["sizes"])]
+    return [((h - p) // stride((h, w), p) + 1, (w - p) // stride((h, w), p) + 1)
+            for p in sizes if p <= min(h, w)]
+
+
 def _memory(shape, width, height, params):
-    """Per exemplar pixel: its patch descriptors (DIMS floats) and pyramid; per output pixel:
-    positions, image, vote sums and winners (about 14 + 6 C floats) and the grid's share (a
-    patch every 4 pixels at the smallest size: descriptors, match, costs, DIMS + 8 floats).
-    Building the descriptors gathers every exemplar patch whole (p^2 C values a position, a few
-    copies: tracemalloc measures about 12 p^2 C bytes), and the votes and usage counts add about
-    400 + 32 C bytes an output pixel; tests/test_contract.py holds the estimate above the peak."""
+    """The finest level's search table at the smallest patch (DIMS floats a lattice point) and
+    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, twice); the exemplar, its
+    pyramid and cell means (about four copies); per output pixel: positions, image, vote sums,
+    the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
+    descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
+    12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
-    per_exemplar = 4 * (DIMS + 2 * c) + 13 * params["patch_size"] ** 2 * c
-    per_output = 4 * (14 + 6 * c) + 4 * (DIMS + 8) / 4 + 400 + 32 * c
-    return per_exemplar * shape[0] * shape[1] + per_output * width * height
+    rows, cols = _tables(shape, params)[0]
+    table = 4 * DIMS * rows * cols + 8 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols
+    return table + 16 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
 
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``): per EM iteration and patch size,
-    a PatchMatch over the output and the votes, and the exemplar's patch descriptors (fitted on
-    64-128 px exemplars to 128-384 px outputs at the defaults: within 10 % at 384)."""
-    h, w, c = shape
-    work = params["iterations"] / 3 * params["sizes"] / 2 * c / 3
-    return 0.2 + (3.2e-5 * width * height + 2.5e-5 * h * w) * work
+    a PatchMatch over the output, its votes and final pass (about 4/3 of the finest level's
+    output over all levels), and the finest level's search tables (its lattice points),
+    fitted to 1024 -> 2048 and 12 MP -> 2048."""
+    c = shape[2]
+    work = params["iterations"] / 3 * c / 3
+    table = sum(r * k for r, k in _tables(shape, params))
+    return 0.2 + (COST_OUT * params["sizes"] / 2 * width * height + COST_TABLE * table) * work
 
 
 METHOD = register(Method(

@@ -109,19 +109,21 @@ class PatchFeatures:
     def describe(self, image: np.ndarray, rows: np.ndarray, cols: np.ndarray,
                  tick=None) -> np.ndarray:
         """Descriptors of the patches of a periodic ``image`` with top-left pixels
-        (rows, cols), arrays of one shape; (..., d). The cell means are gathered ``CHUNK``
-        patches at a time (``tick()`` after each) and projected in one product (a product's
-        rows would change in their last bits with the chunks)."""
+        (rows, cols), arrays of one shape; (..., d). The cell means are gathered and projected
+        ``CHUNK`` patches at a time (``tick()`` after each), so the working memory is a chunk's
+        cells, not every patch's."""
         cells = self._cell_means(image, periodic=True)
         shape = np.shape(rows)
         rows, cols = np.ravel(rows), np.ravel(cols)
-        raw = np.empty((len(rows), self.mean.shape[0]), np.float32)
+        out = np.empty((len(rows), self.basis.shape[1]), np.float32)
         for s in range(0, len(rows), CHUNK):
             sl = slice(s, s + CHUNK)
-            np.subtract(self._raw(cells, rows[sl], cols[sl]), self.mean, out=raw[sl])
+            raw = self._raw(cells, rows[sl], cols[sl])
+            raw -= self.mean
+            np.matmul(raw, self.basis, out=out[sl])
             if tick is not None:
                 tick()
-        return (raw @ self.basis).reshape(shape + (-1,))
+        return out.reshape(shape + (-1,))
 
 
 def _cost(features, target, flat, penalty):
