@@ -19,12 +19,29 @@ patch's distance gets ``lambda * median(d) * max(0, n(z) / n_bar - 1)``, n(z) th
 exemplar patches within a grid step of z, n_bar the uniform usage (at least 1), median(d) the
 median matching distance of the previous iteration.
 
+Why the averaged result smudged (measured at 1024 -> 2048 on a brick wall, the output after
+each level and patch size against that level's exemplar): the gradient ratio was 0.63 after the
+coarsest level, 0.78, 0.81, 0.92, 0.95 and 0.98 after the next; the layout (rows) was set, and
+already broken, at the coarsest of three levels, where a 16 px patch spans two brick rows; and
+the former final step, each pixel the voted pixel nearest the weighted average, rebuilt the
+average's blur out of exemplar pixels. Taking the mode instead in every E-step (each pixel from
+its best patch) leaves the random start a fixed point (the output stayed its 16 px squares), so
+the averaging stays for the iterations and only the last pass of each level and size is the
+mode; and the levels reach the exemplar's texel, as Kaspar et al. 2015, 4 choose patch sizes.
+
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
-- the output of each level and patch size is made of exemplar pixels: each pixel takes, among
-  the patch pixels voted onto it, the one nearest the weighted average, which keeps the result
-  crisp and gives the position map (so every map of a material can follow);
+- each level and patch size ends with a non-averaged pass (Kaspar et al. 2015, 5): each pixel
+  is the pixel of its best overlapping patch, the highest IRLS weight (usage term included)
+  times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
+  crisp, and the position map (so every map of a material can follow);
+- ``levels`` 0 (the default) takes enough levels for the largest patch to span the texel
+  (``texsynth.blocks.period``, measured on a pyramid level of at most ``PROBE`` pixels), at
+  least 3; the coarse levels (2 and up) run ``COARSE`` times the EM iterations;
+- on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
+  lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
+  stays on it; every exemplar pixel still lies in a lattice patch);
 - output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it.
 
 ``optimize`` also takes fixed pixels (``known``), kept exact: ``texsynth.make_tileable`` uses it
@@ -36,7 +53,15 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
-from ..blocks.patchmatch import BLOCK_ROWS, CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
+from ..blocks.patchmatch import (
+    BLOCK_ROWS,
+    CELLS,
+    CHUNK,
+    DIMS,
+    FIT_SAMPLES,
+    PatchFeatures,
+    patchmatch,
+)
 from ..blocks.period import texel_size
 from ..registry import Method, Param, register
 
@@ -51,7 +76,7 @@ SOURCES = 1 << 21
 #: Memory model (bytes an output pixel, and per channel) and cost model (reference seconds an
 #: output pixel at two sizes, and a search table's lattice point): see ``_memory``, ``_cost``.
 MEM_OUT, MEM_OUT_C = 100, 16
-COST_OUT, COST_TABLE = 3.2e-5, 2.5e-5
+COST_OUT, COST_TABLE = 3.2e-5, 1.0e-5
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
@@ -71,7 +96,7 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
-def auto_levels(pyramid, patch):
+def _auto_levels(pyramid, patch):
     """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
     the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``; the texel is
     measured on the first level of the exemplar's ``pyramid`` within ``PROBE`` pixels."""
@@ -81,7 +106,7 @@ def auto_levels(pyramid, patch):
     return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / patch)))))
 
 
-def stride(shape, p) -> int:
+def _stride(shape, p) -> int:
     """The lattice spacing of the exemplar patches searched at patch size ``p``: 1, or for an
     exemplar of more than ``SOURCES`` pixels the power of two that brings it under, at most the
     output grid step p / 4 (propagation's offsets then stay on the lattice)."""
@@ -111,7 +136,7 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     for _ in range(level_count(exemplar.shape, width, height, patch_size, 8) - 1):
         pyramid.append(_downsample(pyramid[-1]))
     if levels == 0:
-        levels = auto_levels(pyramid, patch_size << (sizes - 1))
+        levels = _auto_levels(pyramid, patch_size << (sizes - 1))
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
     del pyramid[n_levels:]
     steps = [(lv, p) for lv in reversed(range(n_levels))
@@ -261,7 +286,7 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
                    descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
     features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label),
-                             stride=stride(z.shape, p))
+                             stride=_stride(z.shape, p))
     hs, ws = features.shape
     s = features.stride
     unknown = None if fixed is None else ~fixed[0]
@@ -323,20 +348,22 @@ def _tables(shape, params):
     """(rows, cols) of the finest level's search table at each patch size (``stride``)."""
     h, w = shape[:2]
     sizes = [params["patch_size"] << k for k in range(params["sizes"])]
-    return [((h - p) // stride((h, w), p) + 1, (w - p) // stride((h, w), p) + 1)
-            for p in sizes if p <= min(h, w)]
+    return [(max(0, h - p) // _stride((h, w), p) + 1, max(0, w - p) // _stride((h, w), p) + 1)
+            for p in sizes]
 
 
 def _memory(shape, width, height, params):
     """The finest level's search table at the smallest patch (DIMS floats a lattice point) and
-    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, twice); the exemplar, its
+    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, twice, and the principal
+    components' samples in float64, twice); the exemplar, its
     pyramid and cell means (about four copies); per output pixel: positions, image, vote sums,
     the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
     descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
     12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
     rows, cols = _tables(shape, params)[0]
-    table = 4 * DIMS * rows * cols + 8 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols
+    table = 4 * DIMS * rows * cols + 8 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
+        + 16 * CELLS ** 2 * c * min(FIT_SAMPLES, rows * cols)
     return table + 16 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
 
 
