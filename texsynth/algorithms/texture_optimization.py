@@ -285,6 +285,7 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
 def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
                    descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
+    progress(0.0, label)
     features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label),
                              stride=_stride(z.shape, p))
     hs, ws = features.shape
@@ -354,17 +355,17 @@ def _tables(shape, params):
 
 def _memory(shape, width, height, params):
     """The finest level's search table at the smallest patch (DIMS floats a lattice point) and
-    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, twice, and the principal
-    components' samples in float64, twice); the exemplar, its
-    pyramid and cell means (about four copies); per output pixel: positions, image, vote sums,
+    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, and the principal
+    components' samples in float64, twice); the exemplar, its pyramid and cell means (about
+    three copies); per output pixel: positions, image, vote sums,
     the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
     descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
     12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
     rows, cols = _tables(shape, params)[0]
-    table = 4 * DIMS * rows * cols + 8 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
+    table = 4 * DIMS * rows * cols + 4 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
         + 16 * CELLS ** 2 * c * min(FIT_SAMPLES, rows * cols)
-    return table + 16 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
+    return table + 12 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
 
 
 def _cost(shape, width, height, params):

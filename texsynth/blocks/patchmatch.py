@@ -33,7 +33,7 @@ DIMS = 32
 #: Exemplar patches sampled to fit the principal components.
 FIT_SAMPLES = 4096
 #: Exemplar rows described per block (bounds the working memory on large photos).
-BLOCK_ROWS = 64
+BLOCK_ROWS = 16
 #: Output patches gathered or compared at once (bounds the working memory; a ``tick`` after
 #: each, so a caller can cancel within a step over a million patches).
 CHUNK = 1 << 16
