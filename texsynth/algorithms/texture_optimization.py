@@ -130,6 +130,7 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and the
     (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
     that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
+    ``levels`` 0: enough to span the exemplar's texel (see the module notes).
     """
     progress(0.0, "analysing the exemplar")
     pyramid = [exemplar]  # built once, to the most levels any choice may use
