@@ -103,3 +103,32 @@ def test_bad_input_says_what_to_change(kwargs, message):
     width = kwargs.pop("width", 32)
     with pytest.raises(ValueError, match=message):
         texsynth.synthesize(ex, width, 32, method="texture_optimization", **kwargs)
+
+
+def test_patchmatch_on_a_lattice_finds_the_lattice_patches():
+    ex = smooth_noise((48, 48), seed=5, sigma=1.0)
+    rng = np.random.default_rng(0)
+    features = PatchFeatures(ex, 8, rng, stride=2)
+    assert features.shape == (21, 21)
+    rows = cols = np.arange(0, 48, 2)
+    nnf = 2 * np.stack([rng.integers(0, 21, (24, 24)), rng.integers(0, 21, (24, 24))],
+                       axis=2).astype(np.int32)
+    target = features.describe(ex, *np.meshgrid(rows, cols, indexing="ij")).reshape(-1, 32)
+    patchmatch(features, target, nnf, rows, cols, (48, 48), rng, 4)
+    assert (nnf % 2 == 0).all()  # matches stay on the lattice
+    inside = rows <= 40
+    assert (nnf[inside][:, inside, 0] == rows[inside, None]).mean() > 0.95
+    assert (nnf[inside][:, inside, 1] == cols[None, inside]).mean() > 0.95
+
+
+def test_a_large_photo_searched_on_a_lattice_still_keeps_rows_and_reaches_every_pixel(
+        monkeypatch):
+    from texsynth.algorithms import texture_optimization as method
+    monkeypatch.setattr(method, "SOURCES", 1000)  # the 64 x 64 bricks count as a large photo
+    ex = bricks()
+    out, positions = texsynth.synthesize_positions(ex, 96, 96, method="texture_optimization",
+                                                   seed=0)
+    assert np.array_equal(texsynth.apply_positions(positions, ex), out)
+    # Lattice patches start on even pixels, yet their pixels cover odd rows and columns too.
+    assert (positions[:, :, 0] % 2).mean() > 0.3 and (positions[:, :, 1] % 2).mean() > 0.3
+    assert ((out.mean(axis=2) < 0.3).mean(axis=1) > 0.5).sum() >= 8  # mortar rows carry on

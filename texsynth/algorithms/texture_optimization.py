@@ -19,12 +19,29 @@ patch's distance gets ``lambda * median(d) * max(0, n(z) / n_bar - 1)``, n(z) th
 exemplar patches within a grid step of z, n_bar the uniform usage (at least 1), median(d) the
 median matching distance of the previous iteration.
 
+Why the averaged result smudged (measured at 1024 -> 2048 on a brick wall, the output after
+each level and patch size against that level's exemplar): the gradient ratio was 0.63 after the
+coarsest level, 0.78, 0.81, 0.92, 0.95 and 0.98 after the next; the layout (rows) was set, and
+already broken, at the coarsest of three levels, where a 16 px patch spans two brick rows; and
+the former final step, each pixel the voted pixel nearest the weighted average, rebuilt the
+average's blur out of exemplar pixels. Taking the mode instead in every E-step (each pixel from
+its best patch) leaves the random start a fixed point (the output stayed its 16 px squares), so
+the averaging stays for the iterations and only the last pass of each level and size is the
+mode; and the levels reach the exemplar's texel, as Kaspar et al. 2015, 4 choose patch sizes.
+
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
-- the output of each level and patch size is made of exemplar pixels: each pixel takes, among
-  the patch pixels voted onto it, the one nearest the weighted average, which keeps the result
-  crisp and gives the position map (so every map of a material can follow);
+- each level and patch size ends with a non-averaged pass (Kaspar et al. 2015, 5): each pixel
+  is the pixel of its best overlapping patch, the highest IRLS weight (usage term included)
+  times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
+  crisp, and the position map (so every map of a material can follow);
+- ``levels`` 0 (the default) takes enough levels for the largest patch to span the texel
+  (``texsynth.blocks.period``, measured on a pyramid level of at most ``PROBE`` pixels), at
+  least 3; the coarse levels (2 and up) run ``COARSE`` times the EM iterations;
+- on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
+  lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
+  stays on it; every exemplar pixel still lies in a lattice patch);
 - output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it.
 
 ``optimize`` also takes fixed pixels (``known``), kept exact: ``texsynth.make_tileable`` uses it
@@ -36,7 +53,16 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
-from ..blocks.patchmatch import CELLS, CHUNK, DIMS, PatchFeatures, patchmatch
+from ..blocks.patchmatch import (
+    BLOCK_ROWS,
+    CELLS,
+    CHUNK,
+    DIMS,
+    FIT_SAMPLES,
+    PatchFeatures,
+    patchmatch,
+)
+from ..blocks.period import texel_size
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
@@ -45,6 +71,19 @@ __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
 R = 0.8
 #: PatchMatch iterations per EM iteration.
 MATCH_ITERATIONS = 2
+#: Exemplar patches a level's search table holds before they are taken on a lattice.
+SOURCES = 1 << 21
+#: Memory model (bytes an output pixel, and per channel) and cost model (reference seconds an
+#: output pixel at two sizes, and a search table's lattice point): see ``_memory``, ``_cost``.
+MEM_OUT, MEM_OUT_C = 100, 16
+COST_OUT, COST_TABLE = 3.2e-5, 1.0e-5
+#: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
+#: ``iterations``: there the layout (rows, joints) is decided.
+COARSE = 2
+#: The most pixels the texel size is measured on (a larger photo: on its pyramid).
+PROBE = 1 << 20
+#: The fewest levels the automatic choice gives (the former default).
+MIN_LEVELS = 3
 
 
 def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
@@ -57,6 +96,26 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
+def _auto_levels(pyramid, patch):
+    """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
+    the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``; the texel is
+    measured on the first level of the exemplar's ``pyramid`` within ``PROBE`` pixels."""
+    lv = next((k for k, z in enumerate(pyramid) if z.shape[0] * z.shape[1] <= PROBE),
+              len(pyramid) - 1)
+    texel = texel_size(pyramid[lv]) * 2 ** lv
+    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / patch)))))
+
+
+def _stride(shape, p) -> int:
+    """The lattice spacing of the exemplar patches searched at patch size ``p``: 1, or for an
+    exemplar of more than ``SOURCES`` pixels the power of two that brings it under, at most the
+    output grid step p / 4 (propagation's offsets then stay on the lattice)."""
+    s = 1
+    while (shape[0] // s) * (shape[1] // s) > SOURCES and 2 * s <= p // 4:
+        s *= 2
+    return s
+
+
 def _downsample(image):
     """2 x 2 block means (an odd last row or column dropped)."""
     h, w = image.shape[0] // 2 * 2, image.shape[1] // 2 * 2
@@ -64,18 +123,23 @@ def _downsample(image):
     return 0.25 * (a[0::2, 0::2] + a[1::2, 0::2] + a[0::2, 1::2] + a[1::2, 1::2])
 
 
-def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, sizes=2,
+def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
              iterations=3, uniformity=2.0, known=None, descriptor=(CELLS, DIMS)):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
 
     ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and the
     (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
     that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
+    ``levels`` 0: enough to span the exemplar's texel (see the module notes).
     """
-    n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
-    pyramid = [exemplar]
-    for _ in range(n_levels - 1):
+    progress(0.0, "analysing the exemplar")
+    pyramid = [exemplar]  # built once, to the most levels any choice may use
+    for _ in range(level_count(exemplar.shape, width, height, patch_size, 8) - 1):
         pyramid.append(_downsample(pyramid[-1]))
+    if levels == 0:
+        levels = _auto_levels(pyramid, patch_size << (sizes - 1))
+    n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
+    del pyramid[n_levels:]
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
@@ -95,7 +159,8 @@ def optimize(exemplar, height, width, rng, progress, levels=3, patch_size=8, siz
                 positions = fixed[1].copy()  # the free pixels start from the given positions
             else:
                 positions[fixed[0]] = fixed[1][fixed[0]]
-        positions = _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity,
+        positions = _optimize_size(z, shape, p, positions, fixed, rng,
+                                   iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
                                    f"level {lv}, patch {p}", descriptor)
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
@@ -175,22 +240,22 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
     return image.reshape(hh, ww, c)
 
 
-def _winners(z, nnf, grid, average, positions, unknown, tick):
-    """Each free pixel's exemplar pixel: among the patch pixels voted onto it, the one nearest
-    the weighted average; ``tick()`` after each patch pixel (u, v)."""
+def _collage(z, nnf, score, grid, positions, unknown, tick):
+    """E-step without averaging: each free pixel takes the exemplar pixel voted by its best
+    overlapping patch, the one of highest ``score`` (log IRLS weight) plus a Gaussian falloff
+    from the patch centre (Kaspar et al. 2015, 5: sigma a grid step); ``tick()`` after each
+    patch pixel (u, v). Returns the new positions."""
     hh, ww = grid.shape
-    c = z.shape[2]
-    flat_z = z.reshape(-1, c)
-    flat_avg = average.reshape(-1, c)
     sr, sc = nnf[grid.index][:, 0], nnf[grid.index][:, 1]
-    best = np.full(hh * ww, np.inf, np.float32)
+    centre = (grid.p - 1) / 2
+    sigma = max(1, grid.p // 4)
+    best = np.full(hh * ww, -np.inf, np.float32)
     source = np.zeros(hh * ww, np.int64)
     for u, v, target in grid.offsets():
         s = (sr + u) * z.shape[1] + sc + v
-        diff = flat_z[s] - flat_avg[target]
-        d = np.einsum("ij,ij->i", diff, diff)
-        better = d < best[target]
-        best[target[better]] = d[better]
+        here = score - np.float32(((u - centre) ** 2 + (v - centre) ** 2) / (2 * sigma ** 2))
+        better = here > best[target]
+        best[target[better]] = here[better]
         source[target[better]] = s[better]
         tick()
     covered = np.isfinite(best).reshape(hh, ww)
@@ -205,10 +270,12 @@ def _winners(z, nnf, grid, average, positions, unknown, tick):
 
 def _usage_penalty(nnf, grid, features, cost, uniformity):
     """Kaspar et al.'s occurrence term: uses of the exemplar patches near each patch z (a box of
-    the grid step), over the uniform usage, beyond 1, times lambda and the median distance."""
+    the grid step), over the uniform usage, beyond 1, times lambda and the median distance; on
+    the lattice of ``features``."""
     hs, ws = features.shape
-    step = max(1, grid.p // 4)
-    flat = nnf[grid.index][:, 0] * ws + nnf[grid.index][:, 1]
+    s = features.stride
+    step = max(1, grid.p // 4 // s)
+    flat = nnf[grid.index][:, 0] // s * ws + nnf[grid.index][:, 1] // s
     uses = np.bincount(flat, minlength=hs * ws).reshape(hs, ws).astype(np.float32)
     near = uniform_filter(uses, size=step, mode="constant") * step * step
     uniform = max(1.0, len(flat) * step * step / (hs * ws))
@@ -219,24 +286,27 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
 def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
                    descriptor):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
-    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label))
+    progress(0.0, label)
+    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label),
+                             stride=_stride(z.shape, p))
     hs, ws = features.shape
+    s = features.stride
     unknown = None if fixed is None else ~fixed[0]
     grid = _Grid(shape, p, unknown)
-    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
     if positions is None:  # Kwatra's start: random exemplar patches, side by side
         i = np.arange(shape[0])[:, None]
         j = np.arange(shape[1])[None, :]
-        corner_r = rng.integers(0, hs, (-(-shape[0] // p), -(-shape[1] // p)))
-        corner_c = rng.integers(0, ws, corner_r.shape)
+        corner_r = s * rng.integers(0, hs, (-(-shape[0] // p), -(-shape[1] // p)))
+        corner_c = s * rng.integers(0, ws, corner_r.shape)
         positions = np.stack([corner_r[i // p, j // p] + i % p, corner_c[i // p, j // p] + j % p],
                              axis=2).astype(np.int32)
         if fixed is not None:
             positions[fixed[0]] = fixed[1][fixed[0]]
     nnf = positions[np.ix_(grid.rows, grid.cols)].copy()
-    nnf[:, :, 0] = np.minimum(nnf[:, :, 0], hs - 1)
-    nnf[:, :, 1] = np.minimum(nnf[:, :, 1], ws - 1)
+    nnf[:, :, 0] = np.minimum(nnf[:, :, 0] // s, hs - 1) * s
+    nnf[:, :, 1] = np.minimum(nnf[:, :, 1] // s, ws - 1) * s
     image = z[positions[:, :, 0], positions[:, :, 1]]
+    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
     penalty = None
     for it in range(iterations):
         progress(it / iterations, label)
@@ -245,21 +315,24 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
             progress(fraction, label)
 
         target = features.describe(image, grid.top, grid.left, tick)
-        cost = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
-                          MATCH_ITERATIONS, grid.index, penalty, tick)
-        if penalty is not None:
-            cost = cost - penalty[nnf[grid.index][:, 0], nnf[grid.index][:, 1]]
+        total = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
+                           MATCH_ITERATIONS, grid.index, penalty, tick)
+        cost = total if penalty is None else \
+            total - penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
         if uniformity > 0:
             penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
             tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
-        weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
-        image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
-    return _winners(z, nnf, grid, image, positions, unknown,
-                    lambda: progress(1.0, label))
+        if it < iterations - 1:
+            weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
+            image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
+    if penalty is not None:  # the final pass sees the usage of the last matches
+        total = cost + penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
+    score = ((R - 2) / 2 * np.log(np.maximum(total, 0) + eps)).astype(np.float32)
+    return _collage(z, nnf, score, grid, positions, unknown, lambda: progress(1.0, label))
 
 
-def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch_size=8,
+def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
                          sizes=2, iterations=3, uniformity=2.0):
     """Synthesize (height, width, C) and its position map; see the module notes."""
     if min(exemplar.shape[:2]) < patch_size:
@@ -273,26 +346,38 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=3, patch
                     iterations, uniformity)
 
 
+def _tables(shape, params):
+    """(rows, cols) of the finest level's search table at each patch size (``stride``)."""
+    h, w = shape[:2]
+    sizes = [params["patch_size"] << k for k in range(params["sizes"])]
+    return [(max(0, h - p) // _stride((h, w), p) + 1, max(0, w - p) // _stride((h, w), p) + 1)
+            for p in sizes]
+
+
 def _memory(shape, width, height, params):
-    """Per exemplar pixel: its patch descriptors (DIMS floats) and pyramid; per output pixel:
-    positions, image, vote sums and winners (about 14 + 6 C floats) and the grid's share (a
-    patch every 4 pixels at the smallest size: descriptors, match, costs, DIMS + 8 floats).
-    Building the descriptors gathers every exemplar patch whole (p^2 C values a position, a few
-    copies: tracemalloc measures about 12 p^2 C bytes), and the votes and usage counts add about
-    400 + 32 C bytes an output pixel; tests/test_contract.py holds the estimate above the peak."""
+    """The finest level's search table at the smallest patch (DIMS floats a lattice point) and
+    its build (a block of ``BLOCK_ROWS`` lattice rows' cell means, and the principal
+    components' samples in float64, twice); the exemplar, its pyramid and cell means (about
+    three copies); per output pixel: positions, image, vote sums,
+    the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
+    descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
+    12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
     c = shape[2]
-    per_exemplar = 4 * (DIMS + 2 * c) + 13 * params["patch_size"] ** 2 * c
-    per_output = 4 * (14 + 6 * c) + 4 * (DIMS + 8) / 4 + 400 + 32 * c
-    return per_exemplar * shape[0] * shape[1] + per_output * width * height
+    rows, cols = _tables(shape, params)[0]
+    table = 4 * DIMS * rows * cols + 4 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
+        + 16 * CELLS ** 2 * c * min(FIT_SAMPLES, rows * cols)
+    return table + 12 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
 
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``): per EM iteration and patch size,
-    a PatchMatch over the output and the votes, and the exemplar's patch descriptors (fitted on
-    64-128 px exemplars to 128-384 px outputs at the defaults: within 10 % at 384)."""
-    h, w, c = shape
-    work = params["iterations"] / 3 * params["sizes"] / 2 * c / 3
-    return 0.2 + (3.2e-5 * width * height + 2.5e-5 * h * w) * work
+    a PatchMatch over the output, its votes and final pass (about 4/3 of the finest level's
+    output over all levels), and the finest level's search tables (its lattice points),
+    fitted to 1024 -> 2048 and 12 MP -> 2048."""
+    c = shape[2]
+    work = params["iterations"] / 3 * c / 3
+    table = sum(r * k for r, k in _tables(shape, params))
+    return 0.2 + (COST_OUT * params["sizes"] / 2 * width * height + COST_TABLE * table) * work
 
 
 METHOD = register(Method(
@@ -303,8 +388,9 @@ METHOD = register(Method(
                 "2015): keeps long structures such as cracks, mortar lines and weaves",
     function=texture_optimization,
     params=(
-        Param("levels", int, 3, "Resolution levels, coarse to fine (capped by the exemplar and "
-              "output sizes)", 1, 6),
+        Param("levels", int, 0, "Resolution levels, coarse to fine (capped by the exemplar and "
+              "output sizes); 0: enough for the largest patch at the coarsest level to span the "
+              "exemplar's texels", 0, 8),
         Param("patch_size", int, 8, "Smallest patch side (pixels); each level also runs the "
               "larger sizes first", 4, 64),
         Param("sizes", int, 2, "Patch sizes per level, each twice the next, large to small", 1,

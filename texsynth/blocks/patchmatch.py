@@ -33,7 +33,7 @@ DIMS = 32
 #: Exemplar patches sampled to fit the principal components.
 FIT_SAMPLES = 4096
 #: Exemplar rows described per block (bounds the working memory on large photos).
-BLOCK_ROWS = 64
+BLOCK_ROWS = 16
 #: Output patches gathered or compared at once (bounds the working memory; a ``tick`` after
 #: each, so a caller can cancel within a step over a million patches).
 CHUNK = 1 << 16
@@ -44,34 +44,36 @@ class PatchFeatures:
     channels, projected on their ``DIMS`` principal components over the exemplar's patches.
     ``||F(x) - F(z)||^2`` approximates the patch SSD ``||x - z||^2`` / q^2 (q the cell side).
 
-    ``exemplar`` holds the descriptors of the exemplar's patches, (h - p + 1, w - p + 1, d),
-    indexed by the patch's top-left pixel; :meth:`describe` gives an image's, wrapping around.
+    ``exemplar`` holds the descriptors of the exemplar's patches whose top-left pixels lie on a
+    lattice of spacing ``stride``, ((h - p) // stride + 1, (w - p) // stride + 1, d), indexed by
+    the top-left pixel over the stride; :meth:`describe` gives an image's, wrapping around.
     ``tick()``, when given, is called after every block of rows (where a caller may cancel).
     """
 
     def __init__(self, exemplar: np.ndarray, size: int, rng: np.random.Generator,
-                 cells: int = CELLS, dims: int = DIMS, tick=None):
+                 cells: int = CELLS, dims: int = DIMS, tick=None, stride: int = 1):
         h, w, c = exemplar.shape
         if size > min(h, w):
             raise ValueError(f"patch size {size} is larger than the exemplar ({w} x {h})")
-        self.size = size
+        self.size, self.stride = size, stride
         self.cells = min(cells, size)
         self.q = size // self.cells
-        self.shape = (h - size + 1, w - size + 1)
+        self.shape = ((h - size) // stride + 1, (w - size) // stride + 1)
         cells = self._cell_means(exemplar, periodic=False)
         rows = rng.integers(0, self.shape[0], min(FIT_SAMPLES, self.shape[0] * self.shape[1]))
         cols = rng.integers(0, self.shape[1], len(rows))
-        sample = self._raw(cells, rows, cols).astype(np.float64)
+        sample = self._raw(cells, rows * stride, cols * stride).astype(np.float64)
         self.mean = sample.mean(axis=0)
         centred = sample - self.mean
         _, vectors = np.linalg.eigh(centred.T @ centred)
         self.basis = np.ascontiguousarray(vectors[:, ::-1][:, :dims], dtype=np.float32)
         self.mean = self.mean.astype(np.float32)
         out = np.empty(self.shape + (self.basis.shape[1],), np.float32)
-        g, q = self.cells, self.q
+        g, q, n = self.cells, self.q, (self.shape[1] - 1) * stride + 1
         for start in range(0, self.shape[0], BLOCK_ROWS):
             stop = min(start + BLOCK_ROWS, self.shape[0])
-            raw = np.concatenate([cells[start + a * q:stop + a * q, b * q:b * q + self.shape[1]]
+            top, bottom = start * stride, (stop - 1) * stride + 1
+            raw = np.concatenate([cells[top + a * q:bottom + a * q:stride, b * q:b * q + n:stride]
                                   for a in range(g) for b in range(g)], axis=-1)
             raw -= self.mean
             np.matmul(raw, self.basis, out=out[start:stop])
@@ -107,19 +109,21 @@ class PatchFeatures:
     def describe(self, image: np.ndarray, rows: np.ndarray, cols: np.ndarray,
                  tick=None) -> np.ndarray:
         """Descriptors of the patches of a periodic ``image`` with top-left pixels
-        (rows, cols), arrays of one shape; (..., d). The cell means are gathered ``CHUNK``
-        patches at a time (``tick()`` after each) and projected in one product (a product's
-        rows would change in their last bits with the chunks)."""
+        (rows, cols), arrays of one shape; (..., d). The cell means are gathered and projected
+        ``CHUNK`` patches at a time (``tick()`` after each), so the working memory is a chunk's
+        cells, not every patch's."""
         cells = self._cell_means(image, periodic=True)
         shape = np.shape(rows)
         rows, cols = np.ravel(rows), np.ravel(cols)
-        raw = np.empty((len(rows), self.mean.shape[0]), np.float32)
+        out = np.empty((len(rows), self.basis.shape[1]), np.float32)
         for s in range(0, len(rows), CHUNK):
             sl = slice(s, s + CHUNK)
-            np.subtract(self._raw(cells, rows[sl], cols[sl]), self.mean, out=raw[sl])
+            raw = self._raw(cells, rows[sl], cols[sl])
+            raw -= self.mean
+            np.matmul(raw, self.basis, out=out[sl])
             if tick is not None:
                 tick()
-        return (raw @ self.basis).reshape(shape + (-1,))
+        return out.reshape(shape + (-1,))
 
 
 def _cost(features, target, flat, penalty):
@@ -136,22 +140,24 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
                iterations: int = 2, active: tuple[np.ndarray, np.ndarray] | None = None,
                penalty: np.ndarray | None = None, tick=None) -> np.ndarray:
     """Improve ``nnf`` (gh, gw, 2) int32, the exemplar top-left matched to each output grid
-    patch, in place; return the cost of each active patch.
+    patch, in place; return the cost of each active patch. Matches lie on the lattice of
+    ``features`` (a pixel off it is taken at the lattice point above and left of it).
 
     The output grid patches have top-left pixels (``rows[i]``, ``cols[j]``) on an output of size
     ``period`` (H, W), which wraps: a grid neighbour proposes its match moved by the two
     patches' offset, measured around the torus. ``active`` = (gi, gj), the grid indices of the
     patches to improve (default: all), whose descriptors ``target`` (n, d) holds; the others keep
-    their match and still propose it. ``penalty`` (h - p + 1, w - p + 1) is added to the
-    distance of each exemplar patch. ``tick()``, when given, is called after every ``CHUNK``
-    patches compared (where a caller may cancel).
+    their match and still propose it. ``penalty`` (``features.shape``) is added to the
+    distance of each exemplar patch of the lattice. ``tick()``, when given, is called after
+    every ``CHUNK`` patches compared (where a caller may cancel).
     """
     hs, ws = features.shape
+    stride = features.stride
     gh, gw = nnf.shape[:2]
     if active is None:
         active = tuple(a.ravel() for a in np.mgrid[:gh, :gw])
     gi, gj = active
-    grid = nnf[:, :, 0] * ws + nnf[:, :, 1]
+    grid = nnf[:, :, 0] // stride * ws + nnf[:, :, 1] // stride
     flat = grid[gi, gj]
     cost = np.empty(len(flat), np.float32)
     for s in range(0, len(flat), CHUNK):
@@ -183,6 +189,7 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
                     mine = gi if axis == 0 else gj
                     other = (mine - sign * k) % n
                     shift = (pos[mine] - pos[other] + size // 2) % size - size // 2
+                    shift = (shift + stride // 2) // stride  # in lattice steps
                     sr, sc = np.divmod(grid[other, gj] if axis == 0 else grid[gi, other], ws)
                     if axis == 0:
                         consider(sr + shift, sc)
@@ -195,4 +202,5 @@ def patchmatch(features: PatchFeatures, target: np.ndarray, nnf: np.ndarray, row
                      c + rng.integers(-radius, radius + 1, c.shape))
             radius //= 2
     nnf[:, :, 0], nnf[:, :, 1] = np.divmod(grid, ws)
+    nnf *= stride
     return cost
