@@ -43,9 +43,6 @@ Deviations, one line each:
   lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
   stays on it; every exemplar pixel still lies in a lattice patch);
 - output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it.
-
-``optimize`` also takes fixed pixels (``known``), kept exact: ``texsynth.make_tileable`` uses it
-to re-synthesize only a band of a photo.
 """
 
 from __future__ import annotations
@@ -124,12 +121,8 @@ def _downsample(image):
 
 
 def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
-             iterations=3, uniformity=2.0, known=None, descriptor=(CELLS, DIMS)):
+             iterations=3, uniformity=2.0):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
-
-    ``known``: ``(mask, positions)``, a bool (height, width) mask of pixels to keep and the
-    (row, col) of the exemplar pixel every pixel shows at the start; kept pixels stay exactly
-    that pixel, the others start from it. ``descriptor``: (cells, dims) of ``PatchFeatures``.
     ``levels`` 0: enough to span the exemplar's texel (see the module notes).
     """
     progress(0.0, "analysing the exemplar")
@@ -149,20 +142,10 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
         shape = (-(-height // 2 ** lv), -(-width // 2 ** lv))
         if positions is not None and positions.shape[:2] != shape:
             positions = _upsample(positions, shape, z.shape)
-        fixed = None
-        if known is not None:
-            mask, where = known
-            fixed = (mask[::2 ** lv, ::2 ** lv][:shape[0], :shape[1]],
-                     np.minimum(where[::2 ** lv, ::2 ** lv] // 2 ** lv,
-                                np.array(z.shape[:2]) - 1)[:shape[0], :shape[1]])
-            if positions is None:
-                positions = fixed[1].copy()  # the free pixels start from the given positions
-            else:
-                positions[fixed[0]] = fixed[1][fixed[0]]
-        positions = _optimize_size(z, shape, p, positions, fixed, rng,
+        positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
-                                   f"level {lv}, patch {p}", descriptor)
+                                   f"level {lv}, patch {p}")
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
@@ -177,34 +160,21 @@ def _upsample(positions, shape, exemplar_shape):
     return out
 
 
-def _touching(unknown, p, rows, cols):
-    """Grid patches (top-left rows x cols, size p, wrapping) that hold an unknown pixel."""
-    any_rows = np.zeros_like(unknown)
-    for u in range(p):
-        any_rows |= np.roll(unknown, -u, axis=0)
-    any_both = np.zeros_like(unknown)
-    for v in range(p):
-        any_both |= np.roll(any_rows, -v, axis=1)
-    return any_both[np.ix_(rows, cols)]
-
-
 class _Grid:
     """Kwatra's output neighbourhoods: p x p patches with top-left corners every p/4 pixels,
-    wrapping around the (H, W) output; the active ones are those that hold a free pixel."""
+    wrapping around the (H, W) output."""
 
-    def __init__(self, shape, p, unknown):
+    def __init__(self, shape, p):
         self.shape, self.p = shape, p
         step = max(1, p // 4)
         self.rows = np.arange(0, shape[0], step)
         self.cols = np.arange(0, shape[1], step)
-        self.active = (np.ones((len(self.rows), len(self.cols)), bool) if unknown is None
-                       else _touching(unknown, p, self.rows, self.cols))
-        gi, gj = np.nonzero(self.active)
+        gi, gj = np.indices((len(self.rows), len(self.cols))).reshape(2, -1)
         self.top, self.left = self.rows[gi], self.cols[gj]
         self.index = (gi, gj)
 
     def offsets(self):
-        """Per patch pixel (u, v): the output pixels (flat) of the active patches."""
+        """Per patch pixel (u, v): the output pixels (flat) of the patches."""
         hh, ww = self.shape
         for u in range(self.p):
             r = ((self.top + u) % hh) * ww
@@ -212,9 +182,9 @@ class _Grid:
                 yield u, v, r + (self.left + v) % ww
 
 
-def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
-    """E-step: the weighted average of the overlapping exemplar patches on every free pixel.
-    Summed one patch pixel (u, v) at a time: the active patches then cover distinct output
+def _vote(z, nnf, weights, grid, tick):
+    """E-step: the weighted average of the overlapping exemplar patches on every pixel.
+    Summed one patch pixel (u, v) at a time: the patches then cover distinct output
     pixels, so each sum is a plain indexed add and no temporary grows with p^2."""
     hh, ww = grid.shape
     c = z.shape[2]
@@ -228,10 +198,7 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
         total[target] += wgt[:, None] * flat_z[(sr + u) * z.shape[1] + sc + v]
         tick()
     covered = norm > 0
-    if unknown is not None:
-        covered &= unknown.ravel()
-    image = (np.zeros((hh * ww, c), np.float32) if unknown is None
-             else fixed_image.reshape(-1, c).copy())
+    image = np.zeros((hh * ww, c), np.float32)
     for s in range(0, hh * ww, CHUNK):
         sl = slice(s, s + CHUNK)
         done = covered[sl]
@@ -240,8 +207,8 @@ def _vote(z, nnf, weights, grid, unknown, fixed_image, tick):
     return image.reshape(hh, ww, c)
 
 
-def _collage(z, nnf, score, grid, positions, unknown, tick):
-    """E-step without averaging: each free pixel takes the exemplar pixel voted by its best
+def _collage(z, nnf, score, grid, positions, tick):
+    """E-step without averaging: each pixel takes the exemplar pixel voted by its best
     overlapping patch, the one of highest ``score`` (log IRLS weight) plus a Gaussian falloff
     from the patch centre (Kaspar et al. 2015, 5: sigma a grid step); ``tick()`` after each
     patch pixel (u, v). Returns the new positions."""
@@ -259,8 +226,6 @@ def _collage(z, nnf, score, grid, positions, unknown, tick):
         source[target[better]] = s[better]
         tick()
     covered = np.isfinite(best).reshape(hh, ww)
-    if unknown is not None:
-        covered &= unknown
     out = positions.copy()
     r, col = np.divmod(source.reshape(hh, ww), z.shape[1])
     out[:, :, 0] = np.where(covered, r, out[:, :, 0])
@@ -283,16 +248,14 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
     return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
 
 
-def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, progress, label,
-                   descriptor):
+def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label):
     """Kwatra's EM iterations at one level and patch size; returns the new positions."""
     progress(0.0, label)
-    features = PatchFeatures(z, p, rng, *descriptor, tick=lambda: progress(0.0, label),
+    features = PatchFeatures(z, p, rng, tick=lambda: progress(0.0, label),
                              stride=_stride(z.shape, p))
     hs, ws = features.shape
     s = features.stride
-    unknown = None if fixed is None else ~fixed[0]
-    grid = _Grid(shape, p, unknown)
+    grid = _Grid(shape, p)
     if positions is None:  # Kwatra's start: random exemplar patches, side by side
         i = np.arange(shape[0])[:, None]
         j = np.arange(shape[1])[None, :]
@@ -300,13 +263,10 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
         corner_c = s * rng.integers(0, ws, corner_r.shape)
         positions = np.stack([corner_r[i // p, j // p] + i % p, corner_c[i // p, j // p] + j % p],
                              axis=2).astype(np.int32)
-        if fixed is not None:
-            positions[fixed[0]] = fixed[1][fixed[0]]
     nnf = positions[np.ix_(grid.rows, grid.cols)].copy()
     nnf[:, :, 0] = np.minimum(nnf[:, :, 0] // s, hs - 1) * s
     nnf[:, :, 1] = np.minimum(nnf[:, :, 1] // s, ws - 1) * s
     image = z[positions[:, :, 0], positions[:, :, 1]]
-    fixed_image = None if fixed is None else z[fixed[1][:, :, 0], fixed[1][:, :, 1]]
     penalty = None
     for it in range(iterations):
         progress(it / iterations, label)
@@ -325,11 +285,11 @@ def _optimize_size(z, shape, p, positions, fixed, rng, iterations, uniformity, p
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         if it < iterations - 1:
             weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
-            image = _vote(z, nnf, weights.astype(np.float32), grid, unknown, fixed_image, tick)
+            image = _vote(z, nnf, weights.astype(np.float32), grid, tick)
     if penalty is not None:  # the final pass sees the usage of the last matches
         total = cost + penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
     score = ((R - 2) / 2 * np.log(np.maximum(total, 0) + eps)).astype(np.float32)
-    return _collage(z, nnf, score, grid, positions, unknown, lambda: progress(1.0, label))
+    return _collage(z, nnf, score, grid, positions, lambda: progress(1.0, label))
 
 
 def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
