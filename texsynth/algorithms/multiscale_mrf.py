@@ -234,8 +234,10 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
         lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool)
-    positions = np.stack(np.divmod(source, w), axis=2).astype(np.int32)
-    return colours[source], positions
+    progress(1.0, "copying the pixels")
+    positions = np.empty(source.shape + (2,), np.int32)
+    np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
+    return Rows(colours)[source], positions
 
 
 def _channel_statistics(exemplar):
@@ -307,7 +309,7 @@ def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel on
     each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
-    its own coefficient, the same for table rows and windows); the table of every table level;
+    its own coefficient, 1.35 times that for windows); the table of every table level;
     the passes over the whole exemplar (centring, windows, the random start's draw). Fitted on
     64 px exemplars to 64-192 px outputs and, for the refining levels, on the 1024 px photos to
     2048 and 4096 (production section) and the 12 MP photo to 2048."""
@@ -316,13 +318,14 @@ def _cost(shape, width, height, params):
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     units = refine_units = 0.0
-    for gh, gw in grid_shapes(width, height, n_levels):
+    for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
-            refine_units += gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+            refine_units += (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+                             * (1.35 if lv in windows else 1.0))
         else:
             units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
     return (0.1 + 5.1e-9 * units + 1.05e-9 * refine_units
-            + 6.0e-9 * (n_levels - len(windows)) * rows * k * c + 5e-8 * h * w)
+            + 6.0e-9 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
 
 
 METHOD = register(Method(
