@@ -15,10 +15,18 @@ MRF, sampled from the exemplar, with Ashikhmin's candidate search, and confidenc
 - Confidences (eq. 1-2) and the multigrid (fig. 9) are ``texsynth.blocks.multigrid``'s; on
   level l the neighbourhood offsets are 2^l (u, v) in the exemplar, so every level reads the
   whole exemplar.
+- Camera photos (issue 25: 12 MP in, 2048 out): the photo is analysed at its feature scale, its
+  full resolution read only where the grid is fine. Each level scores candidates against a
+  table of its exemplar positions (``neighbour_table``) at most ``TABLE_ROWS`` long: the
+  lattice ``exemplar[::s, ::s]``, s the least power of two that fits (1 up to 1448 x 1448
+  pixels), whose neighbours at step 2^l are lattice pixels too when s <= 2^l; the finer levels
+  (2^l < s: the finest refinements) read the whole exemplar's neighbourhoods on demand
+  (``WindowRows``, 16 bytes a pixel for RGB where a table row is 448), so every exemplar pixel
+  can be shown. 12 MP to 2048: 0.8 GiB where the tables would take 13.5.
 - Levels (Paget & Longstaff 1998: the coarsest grid's neighbourhood must capture the texture's
-  longest interactions): by default (``levels`` 0) enough that the coarsest neighbourhood,
-  2 r 2^(L-1) pixels across, spans the exemplar's texel size (``texsynth.blocks.period``), and
-  at least ``MIN_LEVELS``: 1024 px photos of a brick wall get 8, of layered rock 6, of gravel 4.
+  longest interactions): by default (``levels`` 0) enough that the coarsest neighbourhood's
+  radius, r 2^(L-1) pixels, spans two texels (``texsynth.blocks.period``), and at least
+  ``MIN_LEVELS``: 1024 px photos of a brick wall or layered rock get 8, of gravel 4.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
@@ -32,7 +40,11 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
   whose grid has more than ``REFINE_PIXELS`` pixels only refines the coarser level's positions:
   its candidates are the continuations of the 8 nearest neighbours alone (no random ones), and
   it is visited ``REFINE_VISITS`` times instead of T; the distance still uses the whole disk;
-- a pixel whose candidates are all its current position is not scored (it would stay).
+- a pixel whose candidates are all its current position is not scored (it would stay);
+- a level with a lattice (s > 1) places its random starts and random candidates on the lattice
+  only, positions quantised to s <= 2^l, finer than its grid's spacing (2^l pixels);
+- with ``exemplar_tiles`` a lattice wraps with the period of ``exemplar[::s, ::s]``, which
+  differs from the exemplar's by less than s pixels when s does not divide its size.
 """
 
 from __future__ import annotations
@@ -42,10 +54,11 @@ import numpy as np
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
-from ..blocks.search import Rows, best_candidate, disk_offsets, neighbour_table
+from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
-__all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS"]
+__all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS", "TABLE_ROWS",
+           "lattice_stride"]
 
 #: A level with a grid larger than this (pixels) refines with coherent candidates only.
 REFINE_PIXELS = 512 * 512
@@ -55,6 +68,11 @@ REFINE_VISITS = 2
 REFINE_PROPOSERS = 8
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 4
+#: Texels the coarsest neighbourhood's radius spans: a texel and its joints with the next on
+#: every side (one texel across left the setts' joints in fragments: gradient ratio 0.87).
+REACH_TEXELS = 2
+#: The most exemplar positions a level's table holds (448 bytes each for RGB, radius 3).
+TABLE_ROWS = 1 << 21
 
 
 class _Level:
@@ -63,41 +81,52 @@ class _Level:
     neighbour outside the exemplar X = 0 and Q = D, the maximal difference. A visited output
     pixel has a row ``Z = [-2 w O, w]`` (O its neighbours' colours, w their confidences), so
     ``Y_p . Z + sum w |O|^2`` is eq. 3; the last sum is the same for every candidate and is
-    left out. Colours are centred on the exemplar mean. The table is built in ``out`` when given
-    (one array refilled level after level), ``tick()`` after each band of it."""
+    left out. Colours are centred on the exemplar mean.
+
+    ``rows`` are a table (``Rows`` of ``neighbour_table``) of the exemplar lattice
+    ``exemplar[::stride, ::stride]`` at step 2^l / stride, whose positions this level works in
+    (mapped from and to the flat positions of the whole exemplar, ``width`` wide), or, with
+    ``stride`` 0, ``WindowRows`` of the whole exemplar (its interleaved layout)."""
 
     #: Output pixels visited at once (keeps the gathered rows in cache).
     CHUNK = 1024
 
-    def __init__(self, exemplar, offsets, step, wrap, random_candidates, proposers=None,
-                 out=None, tick=None):
-        h, w, c = exemplar.shape
-        colours = exemplar.reshape(h * w, c)
-        centred = exemplar - colours.mean(axis=0)
+    def __init__(self, rows, colours, shape, stride, width, offsets, step, wrap,
+                 random_candidates, proposers=None):
         k = len(offsets)
-        self.shape, self.k, self.c, self.wrap = (h, w), k, c, wrap
-        dmax = np.float32((np.ptp(colours, axis=0).astype(np.float64) ** 2).sum())
-        table = neighbour_table(centred, offsets, step, wrap, dmax, out, tick)
-        self.table = Rows(table)
-        self.n = h * w
-        self.colours = Rows(centred.reshape(h * w, c))
+        self.rows, self.colours = rows, colours
+        self.shape, self.n, self.k, self.wrap = shape, shape[0] * shape[1], k, wrap
+        self.stride, self.width, self.windows = max(1, stride), width, stride == 0
+        self.c = colours.width
         self.du = (step * offsets[:, 0]).astype(np.int32)
         self.dv = (step * offsets[:, 1]).astype(np.int32)
         self.offsets = offsets
         self.random_candidates = random_candidates
         self.proposers = k if proposers is None else min(proposers, k)
 
+    def _to_level(self, p):
+        if self.stride == 1:
+            return p
+        pr, pc = np.divmod(p, self.width)
+        return (pr // self.stride) * self.shape[1] + pc // self.stride
+
+    def _to_exemplar(self, q):
+        if self.stride == 1:
+            return q
+        qr, qc = np.divmod(q, self.shape[1])
+        return ((qr * self.width + qc) * self.stride).astype(np.int32)
+
     def visit(self, source, confidence, rows, cols, rng, tick):
         """One visit of the pixels (rows, cols), none in another's neighbourhood: each moves to
         its best candidate when that beats its current position. Returns the new positions.
         Taken ``CHUNK`` pixels at a time, so every temporary stays small and in cache;
         ``tick()`` after each chunk."""
-        out = source[rows, cols]
+        out = self._to_level(source[rows, cols])
         for s in range(0, len(rows), self.CHUNK):
             sl = slice(s, s + self.CHUNK)
             out[sl] = self._visit(source, confidence, rows[sl], cols[sl], out[sl], rng)
             tick()
-        return out
+        return self._to_exemplar(out)
 
     def _visit(self, source, confidence, rows, cols, current, rng):
         p = self.proposers
@@ -117,11 +146,11 @@ class _Level:
         return out
 
     def _neighbours(self, source, confidence, rows, cols, k):
-        """The first k neighbours' exemplar positions and confidences w, (B, k) each."""
+        """The first k neighbours' positions (this level's) and confidences w, (B, k) each."""
         gh, gw = source.shape
         flat = (((rows[:, None] + self.offsets[:k, 0]) % gh) * gw
                 + (cols[:, None] + self.offsets[:k, 1]) % gw)
-        return source.ravel()[flat], confidence.ravel()[flat]
+        return self._to_level(source.ravel()[flat]), confidence.ravel()[flat]
 
     def _continuations(self, nb, nw):
         """Ashikhmin: each placed neighbour (w > 0) proposes the position that continues it;
@@ -140,10 +169,16 @@ class _Level:
     def _best(self, nb, nw, current, cand):
         k, c = self.k, self.c
         b = len(nb)
-        z = np.empty((b, k * (c + 1)), np.float32)
-        z[:, :k * c] = np.multiply(self.colours[nb], (-2.0 * nw)[:, :, None]).reshape(b, k * c)
-        z[:, k * c:] = nw
-        return best_candidate(self.table, cand, z, current, self.n)
+        z = np.empty((b, k, c + 1) if self.windows else (b, k * (c + 1)), np.float32)
+        o = np.multiply(self.colours[nb], (-2.0 * nw)[:, :, None])
+        if self.windows:
+            z[:, :, :c] = o
+            z[:, :, c] = nw
+            z = z.reshape(b, k * (c + 1))
+        else:
+            z[:, :k * c] = o.reshape(b, k * c)
+            z[:, k * c:] = nw
+        return best_candidate(self.rows, cand, z, current, self.n)
 
 
 def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
@@ -158,66 +193,139 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     if levels == 0:
         levels = auto_levels(exemplar, radius)
     shapes = grid_shapes(width, height, level_count(exemplar.shape, width, height, radius, levels))
+    colours = exemplar.reshape(h * w, c)
+    mean, dmax = _channel_statistics(exemplar)
+    progress(0.0, "centring the exemplar")  # Esc between whole-photo passes of a 12 MP photo
+    centred = exemplar - mean
+    stride = lattice_stride(exemplar.shape)
 
     def refines(lv):
         return shapes[lv][0] * shapes[lv][1] > REFINE_PIXELS
 
-    table = []  # one table array, refilled by every level
+    kept = {}  # the table array, refilled by every table level; the windows, built once
 
     def make_level(lv, tick):
-        level = _Level(exemplar, offsets, 2 ** lv, exemplar_tiles,
-                       0 if refines(lv) else random_candidates,
-                       REFINE_PROPOSERS if refines(lv) else None, table[0] if table else None,
-                       tick)
-        table[:] = [level.table.array]
+        step = 2 ** lv
+        candidates = (0 if refines(lv) else random_candidates,
+                      REFINE_PROPOSERS if refines(lv) else None)
+        if stride <= step:  # a table of the lattice
+            sub = centred[::stride, ::stride]
+            table = neighbour_table(sub, offsets, step // stride, exemplar_tiles, dmax,
+                                    kept.get("table"), tick)
+            kept["table"] = table
+            level = _Level(Rows(table), Rows(sub.reshape(-1, c)), sub.shape[:2], stride, w,
+                           offsets, step // stride, exemplar_tiles, *candidates)
+        else:  # the whole exemplar, rows on demand
+            if "windows" not in kept:
+                kept.pop("table", None)
+                kept["windows"] = WindowRows(centred, radius * step, exemplar_tiles, dmax)
+                tick()
+            level = _Level(kept["windows"].at(offsets, step), Rows(centred.reshape(h * w, c)),
+                           (h, w), 0, w, offsets, step, exemplar_tiles, *candidates)
         return level
+
+    def pool(lv):
+        if stride <= 2 ** lv and stride > 1:
+            sh, sw = -(-h // stride), -(-w // stride)
+            qr, qc = np.divmod(np.arange(sh * sw), sw)
+            return ((qr * w + qc) * stride).astype(np.int32)
+        return None
 
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
-        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress)
-    positions = np.stack(np.divmod(source, w), axis=2).astype(np.int32)
-    return exemplar.reshape(h * w, c)[source], positions
+        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool)
+    progress(1.0, "copying the pixels")
+    positions = np.empty(source.shape + (2,), np.int32)
+    np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
+    return Rows(colours)[source], positions
+
+
+def _channel_statistics(exemplar):
+    """The mean colour and D, the maximal squared colour difference (the sum over channels of
+    the squared ranges); reduced along rows first (a reduction along 12 M pixels of 3
+    channels is slow, and in float32 inexact)."""
+    h, w, c = exemplar.shape
+    rows = exemplar.reshape(h, w * c)
+    mean = rows.mean(axis=0, dtype=np.float64).reshape(w, c).mean(axis=0)
+    spread = (rows.max(axis=0).reshape(w, c).max(axis=0).astype(np.float64)
+              - rows.min(axis=0).reshape(w, c).min(axis=0))
+    return mean.astype(np.float32), np.float32((spread ** 2).sum())
+
+
+def lattice_stride(shape) -> int:
+    """The least power of two s whose lattice ``exemplar[::s, ::s]`` has at most
+    ``TABLE_ROWS`` pixels: the stride of the tables of levels l with 2^l >= s.
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, 3.1 (the levels whose tables these are).
+
+    Examples
+    --------
+    >>> lattice_stride((1024, 1024, 3)), lattice_stride((3000, 4000, 3))
+    (1, 4)
+    """
+    s = 1
+    while -(-shape[0] // s) * -(-shape[1] // s) > TABLE_ROWS:
+        s *= 2
+    return s
 
 
 def auto_levels(exemplar, radius):
-    """Levels enough for the coarsest neighbourhood (2 r 2^(L-1) across) to span a texel, and
-    at least ``MIN_LEVELS``."""
+    """Levels enough for the coarsest neighbourhood's radius (r 2^(L-1)) to span
+    ``REACH_TEXELS`` texels, and at least ``MIN_LEVELS``."""
     texel = texel_size(exemplar)
-    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / (2 * radius))))))
+    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, REACH_TEXELS * texel / radius)))))
+
+
+def _plan(shape, width, height, params):
+    """The lattice stride, its pixel count, the level count (automatic levels counted at the
+    most the exemplar allows) and the levels that read whole-exemplar windows (step < stride)."""
+    s = lattice_stride(shape)
+    n_levels = level_count(shape, width, height, params["radius"], params["levels"] or 8)
+    windows = [lv for lv in range(n_levels) if 2 ** lv < s]
+    return s, -(-shape[0] // s) * -(-shape[1] // s), n_levels, windows
 
 
 def _memory(shape, width, height, params):
-    """The level's exemplar table (K (C + 1) floats a pixel, and its build) and colour rows,
-    the position, confidence and output maps, one batch's neighbour indices (a lattice pixel in
-    (r + 1)^2), one chunk's candidate rows."""
-    k = len(disk_offsets(params["radius"]))
-    c = shape[2]
-    exemplar = shape[0] * shape[1] * (k * (4 * (c + 1) + 8 * c + 1) + 4 * c + 8)  # + build
-    maps = width * height * (4 + 2 + 4 + 4 * c + 8 + 4 * c)
-    batch = width * height / (params["radius"] + 1) ** 2 * k * 40
-    chunk = _Level.CHUNK * (k + params["random_candidates"]) * (4 * k * (c + 1) + 16)
-    return exemplar + maps + batch + chunk
+    """The centred exemplar; then the larger of a table level's (the table, K (C + 1) floats a
+    lattice pixel, its padded build and the lattice's colours) and a windows level's (the
+    windows, C + 1 floats a pixel with their margin, and the random start's draw over the
+    exemplar, 8 bytes a pixel); the output's maps (position, confidence, visit need, and at
+    the end the position pairs and colours: 26 + 4 C bytes a pixel); one chunk's rows."""
+    h, w, c = shape
+    r = params["radius"]
+    k = len(disk_offsets(r))
+    s, rows, n_levels, windows = _plan(shape, width, height, params)
+    table = 0 if len(windows) == n_levels else rows * (k * (c + 1) + 2 * (c + 1) + c) * 4
+    margin = r * 2 ** windows[0] if windows else 0
+    window = (h + 2 * margin) * (w + 2 * margin) * (c + 1) * 4 + h * w * 8 if windows else 0
+    maps = width * height * (26 + 4 * c)
+    chunk = _Level.CHUNK * (k + params["random_candidates"]) * (4 * k * (c + 1) + 16) * 2
+    return h * w * c * 4 + max(table, window) + maps + chunk + (8 << 20)
 
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Per visit of an output pixel on
     each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
-    its own coefficient); plus the exemplar table of every level (automatic levels counted at
-    the most the exemplar allows). Fitted on 64 px exemplars to 64-192 px outputs and, for the
-    refining levels, on the 1024 px photos to 2048 and 4096 (production section)."""
+    its own coefficient, 1.35 times that for windows); the table of every table level;
+    the passes over the whole exemplar (centring, windows, the random start's draw). Fitted on
+    64 px exemplars to 64-192 px outputs and, for the refining levels, on the 1024 px photos to
+    2048 and 4096 (production section) and the 12 MP photo to 2048."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
     per_visit = k * (c + 1)
-    n_levels = level_count(shape, width, height, params["radius"], params["levels"] or 8)
+    s, rows, n_levels, windows = _plan(shape, width, height, params)
     units = refine_units = 0.0
-    for gh, gw in grid_shapes(width, height, n_levels):
+    for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
-            refine_units += gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+            refine_units += (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+                             * (1.35 if lv in windows else 1.0))
         else:
             units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
     return (0.1 + 5.1e-9 * units + 1.05e-9 * refine_units
-            + 6.0e-9 * n_levels * h * w * k * c)
+            + 6.0e-9 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
 
 
 METHOD = register(Method(

@@ -22,7 +22,10 @@ Deviations, one line each:
 - a side not divisible by 2^l gives a coarse grid of ceil(side / 2^l) points whose last row or
   column sits closer to the first; the finest level, where this does not arise, corrects it;
 - the number of levels is capped so that the coarsest neighbourhood (2 r 2^l + 1) fits in the
-  exemplar and its grid is at least 2 r + 1 points across.
+  exemplar and its grid is at least 2 r + 1 points across;
+- the random start uses every exemplar pixel equally often: each run of n grid pixels in reading
+  order holds every one once (a grid larger than the exemplar), or n >= the grid's pixels are
+  drawn without repeats (a camera photo).
 """
 
 from __future__ import annotations
@@ -52,38 +55,55 @@ def grid_shapes(width: int, height: int, n_levels: int) -> list[tuple[int, int]]
     return [(-(-height // 2 ** lv), -(-width // 2 ** lv)) for lv in range(n_levels)]
 
 
-def random_positions(shape, n, rng) -> np.ndarray:
-    """Flat exemplar indices, each exemplar pixel used equally often (up to rounding)."""
+def random_positions(shape, n, rng, pool=None, tick=None) -> np.ndarray:
+    """Flat exemplar indices, each of the ``n`` exemplar pixels (or each of ``pool``'s) used
+    equally often (up to rounding): a draw without repeats when there are more than pixels,
+    else one permutation of them after another (``tick()`` after each), in reading order."""
     size = shape[0] * shape[1]
-    pool = np.tile(np.arange(n, dtype=np.int32), -(-size // n))
-    return rng.permutation(pool)[:size].reshape(shape)
+    m = n if pool is None else len(pool)
+    if m >= size:  # a permutation of a 12 MP pool would take seconds
+        pick = rng.choice(m, size, replace=False)
+        return (pick if pool is None else pool[pick]).astype(np.int32).reshape(shape)
+    pool = np.arange(n, dtype=np.int32) if pool is None else pool.astype(np.int32)
+    out = np.empty(-(-size // m) * m, np.int32)
+    for start in range(0, size, m):  # a 4096 grid from a 1024 photo: 16 rounds, not one of 16 M
+        out[start:start + m] = rng.permutation(pool)
+        if tick is not None:
+            tick()
+    return out[:size].reshape(shape)
 
 
 def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object], n: int, shapes,
                          visits: int | Callable[[int], int], rng: np.random.Generator,
-                         progress: Progress) -> np.ndarray:
+                         progress: Progress,
+                         pool: Callable[[int], np.ndarray | None] | None = None) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
     coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
     call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
-    T per level as ``visits(l)``."""
+    T per level as ``visits(l)``; ``pool(l)``, when given and not None, the exemplar positions
+    level l draws its random start from (a level that searches a lattice of the exemplar)."""
     n_levels = len(shapes)
     work = np.array([gh * gw for gh, gw in shapes], float)
     work /= work.sum()
 
     # Confidence w is counted in halves of a visit: w = halves / (2 T), final at 2 T.
-    source = random_positions(shapes[-1], n, rng)
+    def pool_of(lv):
+        return None if pool is None else pool(lv)
+
+    source = random_positions(shapes[-1], n, rng, pool_of(n_levels - 1))
     halves = np.zeros(shapes[-1], np.int16)
     for lv in reversed(range(n_levels)):
         start = work[lv + 1:].sum()
         part = progress.span(start, start + work[lv])
         t = visits(lv) if callable(visits) else visits
+        building = functools.partial(part, 0.0, f"level {lv}: building")
         if lv < n_levels - 1:
+            building()  # the random start draws from up to 12 M exemplar pixels
             coarse = source
-            source = random_positions(shapes[lv], n, rng)
+            source = random_positions(shapes[lv], n, rng, pool_of(lv), building)
             source[::2, ::2] = coarse
             halves = np.zeros(shapes[lv], np.int16)
             halves[::2, ::2] = t  # confidence 0.5
-        building = functools.partial(part, 0.0, f"level {lv}: building")
         building()  # Esc is heard between the random start and the table, long steps at 4096
         level = None  # the finer level's tables are built after the coarser one's are freed
         level = make_level(lv, building)

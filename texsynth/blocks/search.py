@@ -7,6 +7,8 @@ Pieces, each usable alone:
 - :func:`neighbour_table`: every exemplar pixel's neighbours at a given step and their squared
   norms as one row, a fixed value for those outside the exemplar (or wrapped, for an exemplar
   declared tileable);
+- :class:`WindowRows`: the same rows (values and squared norm interleaved per neighbour)
+  gathered on demand from the exemplar, for exemplars whose table would not fit;
 - :class:`PatchMatrix`: every exemplar window as one row, so the weighted SSD of a batch of
   partially known output neighbourhoods against *all* exemplar windows is one matrix product
   (exact, not approximate): ``sum_k g_k ||E_k - N_k||^2 = sum_k g_k ||E_k||^2
@@ -33,6 +35,7 @@ __all__ = [
     "sparse_subset",
     "best_candidate",
     "Rows",
+    "WindowRows",
 ]
 
 #: Bytes of table filled at once by :func:`neighbour_table` (about a core's L2 cache).
@@ -125,6 +128,70 @@ def neighbour_table(exemplar: np.ndarray, offsets: np.ndarray, step: int, wrap: 
         if tick is not None:
             tick()
     return table
+
+
+class WindowRows:
+    """:func:`neighbour_table`'s rows computed when asked for, not stored: ``rows[idx]`` is
+    (len(idx), K (C + 1)), per neighbour its C values then their squared norm (interleaved,
+    where the table has all values first), for flat exemplar positions ``idx``. The exemplar is
+    kept once as [X, Q] per pixel with a margin of ``margin`` pixels (zero and ``outside``, or
+    wrapped), so a row is K gathers of C + 1 floats; :meth:`at` serves any step whose
+    neighbourhood fits in the margin. 16 bytes a pixel for RGB, against the table's 4 K (C + 1).
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, 3.1, eq. 3 (the distance these rows enter).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> image = rng.random((9, 11, 3), dtype=np.float32)
+    >>> offsets = disk_offsets(2)
+    >>> table = neighbour_table(image, offsets, 2, False, 5.0)
+    >>> rows = WindowRows(image, 4, False, 5.0).at(offsets, 2)[np.array([0, 40, 98])]
+    >>> values = rows.reshape(3, len(offsets), 4)[:, :, :3].reshape(3, -1)
+    >>> bool(np.allclose(values, table[[0, 40, 98], :3 * len(offsets)]))
+    True
+    """
+
+    def __init__(self, exemplar: np.ndarray, margin: int, wrap: bool, outside: float):
+        h, w, c = exemplar.shape
+        m = margin
+        xq = np.empty((h + 2 * m, w + 2 * m, c + 1), np.float32)
+        if wrap:
+            rows = (np.arange(-m, h + m) % h)[:, None]
+            cols = np.arange(-m, w + m) % w
+            xq[:, :, :c] = exemplar[rows, cols]
+        else:
+            xq[:, :, :c] = 0
+            xq[m:m + h, m:m + w, :c] = exemplar
+        np.einsum("ijc,ijc->ij", xq[:, :, :c], xq[:, :, :c], out=xq[:, :, c])
+        if not wrap:
+            xq[:m, :, c] = xq[h + m:, :, c] = xq[:, :m, c] = xq[:, w + m:, c] = outside
+        self.shape, self.margin, self.channels = (h, w), m, c
+        self.pixels = Rows(xq.reshape(-1, c + 1))
+
+    def at(self, offsets: np.ndarray, step: int) -> _WindowRowsAt:
+        """The rows for these offsets at this step (``step * |offset|`` within the margin)."""
+        return _WindowRowsAt(self, offsets, step)
+
+
+class _WindowRowsAt:
+    def __init__(self, parent: WindowRows, offsets: np.ndarray, step: int):
+        h, w = parent.shape
+        m = parent.margin
+        if step * int(np.abs(offsets).max(initial=0)) > m:
+            raise ValueError(f"step {step} reaches past the margin of {m} pixels")
+        self.parent, self.stride = parent, w + 2 * m
+        self.koff = (step * (offsets[:, 0].astype(np.int64) * self.stride + offsets[:, 1]))
+        self.width = len(offsets) * (parent.channels + 1)
+
+    def __getitem__(self, idx) -> np.ndarray:
+        w, m = self.parent.shape[1], self.parent.margin
+        pr, pc = np.divmod(np.asarray(idx, np.int64), w)
+        centre = (pr + m) * self.stride + (pc + m)
+        got = self.parent.pixels[centre[..., None] + self.koff]
+        return got.reshape(np.shape(idx) + (self.width,))
 
 
 class PatchMatrix:
@@ -256,25 +323,28 @@ def sample_near_best(d: np.ndarray, epsilon: float, rng: np.random.Generator,
     return cols[_uniform_pick(rows, len(d), rng)], best
 
 
-def best_candidate(table: Rows, cand: np.ndarray, z: np.ndarray, current: np.ndarray,
+def best_candidate(table, cand: np.ndarray, z: np.ndarray, current: np.ndarray,
                    none: int) -> np.ndarray:
     """Per output pixel, the candidate exemplar position with the least distance ``table[p] . z``
     where it beats ``current`` (else ``current``): the candidate step of the MRF samplers.
 
-    ``cand`` (B, M) holds candidate rows of ``table`` with ``none`` for "no candidate"; duplicates
-    are scored once, and columns no pixel needs are dropped before the gather.
+    ``table`` is a :class:`Rows` of a :func:`neighbour_table` or a :class:`WindowRows` (``z`` in
+    its layout); ``cand`` (B, M) holds candidate rows with ``none`` for "no candidate".
+    Duplicates and the current position are scored once: only the distinct (pixel, candidate)
+    pairs are gathered (a refining level offers about 1.2 a pixel in 9 columns).
     """
     b = len(cand)
     cand.sort(axis=1)
     cand[:, 1:][cand[:, 1:] == cand[:, :-1]] = none
-    cand.sort(axis=1)
-    cand = cand[:, :max(1, int((cand < none).sum(axis=1).max()))]
-    d = np.einsum("buk,bk->bu", table[cand], z)
-    d[cand == none] = np.inf
-    pick = d.argmin(axis=1)
-    best = d[np.arange(b), pick]
-    d_current = np.einsum("bk,bk->b", table[current], z)
-    return np.where(best < d_current, cand[np.arange(b), pick], current)
+    cand[cand == current[:, None]] = none
+    pixel, slot = np.nonzero(cand < none)
+    d = np.einsum("pk,pk->p", table[np.concatenate([cand[pixel, slot], current])],
+                  np.concatenate([z[pixel], z]))
+    scored = np.full(cand.shape, np.inf, np.float32)
+    scored[pixel, slot] = d[:len(pixel)]
+    pick = scored.argmin(axis=1)
+    every = np.arange(b)
+    return np.where(scored[every, pick] < d[len(pixel):], cand[every, pick], current)
 
 
 def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Generator):
