@@ -121,7 +121,7 @@ def magnitude_scale(a: np.ndarray) -> float:
     zero); else the power of two that brings the largest to order one. Multiplying by a power
     of two is exact in floating point, so a method can work on ``a * scale`` (squared distances
     of values near 1e30 overflow float32) and its result be divided back without rounding."""
-    peak = float(np.max(np.abs(a))) if a.size else 0.0
+    peak = max(float(a.max()), -float(a.min())) if a.size else 0.0  # no |a| temporary
     if peak == 0.0:
         return 1.0
     k = int(np.floor(np.log2(peak)))
