@@ -49,6 +49,7 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                   levels=levels)
     start = None
     if width * height > COARSE_PIXELS and min(exemplar.shape[:2]) >= 32:
+        progress(0.0, "halving the exemplar")
         h, w = exemplar.shape[0] // 2, exemplar.shape[1] // 2
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
