@@ -127,10 +127,13 @@ PARAMS = (
 
 def memory(shape, width, height, params) -> float:
     """Peak bytes: the clique model's working set, the label maps, which (term, end)
-    columns each pixel takes part in (2 bytes per selected type and pixel) and their summed
-    second-order weight (a float64 per pixel)."""
-    return (CLIQUE_MODEL.memory(shape, width, height, params)
-            + (24 + 2 * params["max_cliques"]) * width * height)
+    columns each pixel takes part in (2 bytes per typical selected type and pixel) and their
+    summed second-order weight (a float64 per pixel); the exemplar's segmentation (features,
+    labels and a block index: 32 bytes a pixel) and its sampled labels, marks and counts (16
+    bytes a sampled pixel)."""
+    t = min(params["max_cliques"], co.TYPICAL_TYPES)
+    return (CLIQUE_MODEL.memory(shape, width, height, params) + (24 + 2 * t) * width * height
+            + 32 * shape[0] * shape[1] + 16 * co.sampled_pixels(shape, params["max_offset"]))
 
 
 @dataclass(frozen=True)
@@ -332,9 +335,11 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
     pixel up to ``cliques.ANCHORS``), its selection windows from its own pixels."""
     reach = max(max_offset, interaction_distance)
     rows = anchor_rows(labels.shape, reach, rng)
+    report(0.0, "exemplar statistics")
     xs, ls = strips(x, rows, reach), strips(labels, rows, reach)
     ls_heads = heads(ls, rows)
     pca = ColorPCA.fit(heads(xs, rows))
+    report(0.0, "exemplar statistics")
     comp = pca.forward(xs)
     initial = None if start is None else pca.forward(start)
     axes = tuple(range(comp.ndim - 1))
@@ -583,7 +588,9 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
 
 
 def cost(shape, width, height, params):
-    """Segmentation, then a clique model per class (each over its share of the output, with
-    interactions) and the label texture: measured 2.3 single clique models (CPU time,
-    1024 -> 2048, gravel_pebbles), both relaxed from a half-size start above COARSE_PIXELS."""
-    return 0.5 + 2.5 * CLIQUE_MODEL.cost(shape, width, height, params)
+    """Segmentation (3.5e-7 s a pixel of the exemplar), then a clique model per class (each
+    over its share of the output, with interactions) and the label texture: measured 2.3
+    single clique models (CPU time, 1024 -> 2048, gravel_pebbles), both relaxed from a
+    half-size start above COARSE_PIXELS."""
+    return 0.5 + 3.5e-7 * shape[0] * shape[1] + 2.5 * CLIQUE_MODEL.cost(shape, width, height,
+                                                                          params)

@@ -58,6 +58,7 @@ from ...blocks.color import ColorPCA
 from ...progress import Progress
 from ...registry import Param
 from .cliques import (
+    ANCHORS,
     GOLOMB,
     PairIndex,
     Relaxation,
@@ -396,9 +397,11 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     rng = _rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
     m = reach(max_offset, x.shape)
+    report(0.0, "colour statistics")
     rows = anchor_rows(x.shape, m, rng)
     sample = strips(x, rows, m)
     pca = ColorPCA.fit(heads(sample, rows))
+    report(0.0, "colour statistics")
     components = pca.forward(sample)
     channels = []
     c = x.shape[2]
@@ -502,17 +505,29 @@ def _rng(seed) -> np.random.Generator:
 TYPICAL_TYPES = 20
 
 
+def sampled_pixels(shape, max_offset: int) -> int:
+    """Pixels of the sample an exemplar of ``shape`` is analysed on (``cliques.strips``)."""
+    h, w = shape[:2]
+    m = reach(max_offset, shape)
+    count = -(-ANCHORS // w)
+    return h * w if h * w <= ANCHORS or count >= h - m else count * (m + 1) * w
+
+
 def cost(shape, width, height, params):
-    """Selection: a round of sweeps over the selection torus per selected type and colour
-    component; synthesis: ``sweeps`` over the output with every selected type from both ends.
-    Selection stops at the threshold, after about ``TYPICAL_TYPES`` types on natural
-    textures (measured: ``max_cliques`` 20 and 40 take about the same time)."""
+    """Exemplar statistics: the clique histograms of every candidate type on at most
+    ``ANCHORS`` heads and the colour work on the sampled strips; selection: a round of sweeps
+    over the selection torus per selected type and colour component; synthesis: ``sweeps``
+    over the output with every selected type from both ends. Selection stops at the
+    threshold, after about ``TYPICAL_TYPES`` types on natural textures (measured:
+    ``max_cliques`` 20 and 40 take about the same time)."""
     h, w, c = shape
     t = min(params["max_cliques"], TYPICAL_TYPES)
     torus = min(h, SELECTION_SIZE) * min(w, SELECTION_SIZE)
     selection = c * t * SELECTION_SWEEPS * torus
-    return 0.05 + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
-                                                              params["sweeps"])
+    statistics = c * (1.5e-7 * min(h * w, ANCHORS)
+                      + 1e-7 * sampled_pixels(shape, params.get("max_offset", MAX_OFFSET)))
+    return 0.05 + statistics + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
+                                                                   params["sweeps"])
 
 
 def synthesis_cost(channels, types, width, height, sweeps):
