@@ -43,6 +43,10 @@ Deviations, one line each:
 - the in-place selection runs on a window of the exemplar (at most ``selection_size`` a
   side) where class n is most frequent, treated as a torus;
 - the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted;
+- an exemplar of more than ``cliques.ANCHORS`` pixels: the subtextures' statistics (colour PCA,
+  singletons, own and interaction histograms, which classes meet) come from its sample of
+  strips (``cliques.anchor_rows``), the complexity order from a regular sample of its pixels;
+  the selection windows are its own pixels;
 - production sizes (multiresolution relaxation, as ``texsynth.cooccurrence``): with
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
   filled at half size (exemplar, labels and output labels halved), upsampled, and relaxed from
@@ -339,8 +343,7 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
     xs, ls = strips(x, rows, reach), strips(labels, rows, reach)
     ls_heads = heads(ls, rows)
     pca = ColorPCA.fit(heads(xs, rows))
-    report(0.0, "exemplar statistics")
-    comp = pca.forward(xs)
+    comp = co.principal_components(pca, xs, report)
     initial = None if start is None else pca.forward(start)
     axes = tuple(range(comp.ndim - 1))
     lo, hi = comp.min(axis=axes), comp.max(axis=axes)

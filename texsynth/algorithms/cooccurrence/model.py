@@ -71,7 +71,7 @@ from .cliques import (
 )
 
 __all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
-           "label_levels", "FORMAT", "PARAMS"]
+           "label_levels", "principal_components", "FORMAT", "PARAMS"]
 
 FORMAT = "texsynth-cooccurrence-1"
 MAX_OFFSET = 8
@@ -85,6 +85,8 @@ SELECTION_SWEEPS = 6
 STEP = 3
 #: Clique types counted in the exemplar between two progress reports.
 TYPE_GROUP = 16
+#: Rows (or strips) of the exemplar turned into colour components between two progress reports.
+ROWS = 64
 
 #: The method's parameters (the registered ``cooccurrence`` method's, checked by :func:`fit`
 #: and :func:`synthesize` too).
@@ -376,6 +378,16 @@ def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                         np.array(added, np.float32), categorical)
 
 
+def principal_components(pca: ColorPCA, sample: np.ndarray, progress: Progress) -> np.ndarray:
+    """``pca.forward(sample)`` (an image or its sample of strips), ``ROWS`` rows or strips at a
+    time with a progress report before each (a sample of a large photo holds millions)."""
+    out = np.empty(sample.shape[:-1] + (pca.basis.shape[1],), np.float32)
+    for a in range(0, len(sample), ROWS):
+        progress(0.0, "colour statistics")
+        out[a:a + ROWS] = pca.forward(sample[a:a + ROWS])
+    return out
+
+
 def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
         max_cliques: int = MAX_CLIQUES, levels: int = LEVELS,
         selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
@@ -401,8 +413,7 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     rows = anchor_rows(x.shape, m, rng)
     sample = strips(x, rows, m)
     pca = ColorPCA.fit(heads(sample, rows))
-    report(0.0, "colour statistics")
-    components = pca.forward(sample)
+    components = principal_components(pca, sample, report)
     channels = []
     c = x.shape[2]
     axes = tuple(range(components.ndim - 1))
@@ -525,7 +536,7 @@ def cost(shape, width, height, params):
     torus = min(h, SELECTION_SIZE) * min(w, SELECTION_SIZE)
     selection = c * t * SELECTION_SWEEPS * torus
     statistics = c * (1.5e-7 * min(h * w, ANCHORS)
-                      + 1e-7 * sampled_pixels(shape, params.get("max_offset", MAX_OFFSET)))
+                      + 1e-7 * sampled_pixels(shape, params["max_offset"]))
     return 0.05 + statistics + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
                                                                    params["sweeps"])
 
