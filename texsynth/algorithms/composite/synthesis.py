@@ -344,7 +344,9 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
     ls_heads = heads(ls, rows)
     pca = ColorPCA.fit(heads(xs, rows))
     comp = co.principal_components(pca, xs, report)
+    report(0.0, "exemplar statistics")
     initial = None if start is None else pca.forward(start)
+    report(0.0, "exemplar statistics")
     axes = tuple(range(comp.ndim - 1))
     lo, hi = comp.min(axis=axes), comp.max(axis=axes)
     width = max(float(hi[0] - lo[0]), 1e-6) / levels
@@ -364,6 +366,7 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
     for k in range(channels):
         g = int(np.clip(np.ceil((hi[k] - lo[k]) / width), 2, levels))
         levels_k = np.arange(g, dtype=np.int32)
+        report(k / channels, "exemplar statistics")
         marks = co.quantize(comp[..., k], lo[k], lo[k] + g * width, g)
         marks_heads = heads(marks, rows)
         zero = int(co.quantize(np.float32(0.0), lo[k], lo[k] + g * width, g))

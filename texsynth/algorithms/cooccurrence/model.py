@@ -417,11 +417,13 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     channels = []
     c = x.shape[2]
     axes = tuple(range(components.ndim - 1))
+    report(0.0, "colour statistics")
     lo, hi = components.min(axis=axes), components.max(axis=axes)
     width = max(float(hi[0] - lo[0]), 1e-6) / levels
     for k in range(c):
         # one level width for every component: a weak component gets few levels, not noise
         g = int(np.clip(np.ceil((hi[k] - lo[k]) / width), 2, levels))
+        report(k / c, "exemplar statistics")
         marks = quantize(components[..., k], lo[k], lo[k] + g * width, g)
         channels.append(fit_channel(marks, np.arange(g, dtype=np.int32), lo[k],
                                     lo[k] + g * width, rng, m, threshold, max_cliques,
