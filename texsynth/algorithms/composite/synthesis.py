@@ -595,8 +595,8 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
 
 def cost(shape, width, height, params):
     """Segmentation (3.5e-7 s a pixel of the exemplar), then a clique model per class (each
-    over its share of the output, with interactions) and the label texture: measured 2.3
-    single clique models (CPU time, 1024 -> 2048, gravel_pebbles), both relaxed from a
-    half-size start above COARSE_PIXELS."""
-    return 0.5 + 3.5e-7 * shape[0] * shape[1] + 2.5 * CLIQUE_MODEL.cost(shape, width, height,
+    over its share of the output, with interactions) and the label texture: measured 1.9
+    single clique models (wall time, 2048 x 2048 from the 12 MP setts photo and from a 1024
+    crop of it), both relaxed from a half-size start above COARSE_PIXELS."""
+    return 0.5 + 3.5e-7 * shape[0] * shape[1] + 1.9 * CLIQUE_MODEL.cost(shape, width, height,
                                                                           params)

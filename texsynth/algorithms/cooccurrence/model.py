@@ -546,4 +546,4 @@ def cost(shape, width, height, params):
 def synthesis_cost(channels, types, width, height, sweeps):
     """Synthesis from a fitted clique model: ``sweeps`` over the output per channel, every
     selected type looked at from both ends."""
-    return 2.7e-8 * channels * sweeps * width * height * (2 + types)
+    return 3.8e-8 * channels * sweeps * width * height * (2 + types)
