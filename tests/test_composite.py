@@ -6,8 +6,10 @@ import pytest
 from scipy import ndimage
 
 import texsynth
+from texsynth.algorithms.composite import segmentation
 from texsynth.algorithms.composite import synthesis as composite
 from texsynth.algorithms.composite.segmentation import label_colours, labels_from_image, segment
+from texsynth.algorithms.cooccurrence import cliques
 from texsynth.metrics import seam_ratio
 
 FAST = {"max_cliques": 6, "sweeps": 8}
@@ -200,3 +202,29 @@ def test_boundaries_off_the_even_grid_keep_their_colours_in_the_half_size_fill(m
     edge = ndimage.binary_dilation(layout == 1) & ndimage.binary_dilation(layout == 0)
     red_side = r.image[:, :, 0] > r.image[:, :, 2]
     assert (red_side == (layout == 0))[edge].mean() > 0.98
+
+
+def test_a_large_photo_is_segmented_and_modelled_from_samples_of_all_of_it(monkeypatch):
+    """Above the sample sizes (lowered here so that a 96 x 96 photo is "large"), the
+    segmentation still labels every pixel as a full analysis would, and the subtextures,
+    counted on sampled rows, keep their colours in their own regions, deterministically."""
+    img, truth = _two_colours((96, 96))
+    full = segment(img)
+    monkeypatch.setattr(segmentation, "SAMPLE_PIXELS", 96 * 96 // 8)
+    monkeypatch.setattr(composite, "SAMPLE_PIXELS", 96 * 96 // 8)
+    monkeypatch.setattr(cliques, "ANCHORS", 96 * 32)
+    sampled = segment(img)
+    assert (sampled == full).mean() > 0.99
+    assert max((sampled == truth).mean(), (sampled != truth).mean()) > 0.97
+    a = composite.synthesize(img, 64, 48, seed=3, **FAST)
+    b = composite.synthesize(img, 64, 48, seed=3, **FAST)
+    assert np.array_equal(a.image, b.image) and a.labels.shape == (96, 96)
+    assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
+    assert seam_ratio(a.image) < 1.3
+
+
+def test_features_in_bands_are_those_of_the_whole_image():
+    img = np.random.default_rng(0).random((600, 70, 3), dtype=np.float32)
+    for texture in (False, True):
+        assert np.array_equal(segmentation.features(img, texture),
+                              segmentation._features(img, texture))

@@ -8,12 +8,15 @@ import texsynth
 from texsynth.algorithms.cooccurrence import model as co
 from texsynth.algorithms.cooccurrence import upsample_half
 from texsynth.algorithms.cooccurrence.cliques import (
+    ANCHORS,
     PairIndex,
     Relaxation,
     Term,
+    anchor_rows,
     colour_sets,
     difference_histograms,
     half_offsets,
+    strips,
 )
 from texsynth.metrics import seam_ratio
 
@@ -207,3 +210,37 @@ def test_half_size_start_of_an_odd_sized_output_tiles_like_the_half_size_result(
         assert start.shape == (height, width, 3)
         ratios.append(seam_ratio(start) / seam_ratio(coarse))
     assert np.mean(ratios) < 1.25
+
+
+def test_a_large_photo_is_counted_on_sampled_rows_of_all_of_it_within_a_tenth_of_the_threshold():
+    """Above ANCHORS pixels the histograms come from random whole rows of the photo (a clique
+    of each type on each anchor): their distance to the full count stays below a tenth of the
+    selection threshold, and the rows cover the photo from top to bottom."""
+    texture = smooth_noise((2000, 800), seed=4, sigma=1.5, channels=1)[:, :, 0]
+    marks = co.quantize(texture, float(texture.min()), float(texture.max()), 16)
+    offsets = half_offsets(4)
+    assert anchor_rows((1024, 1024), 4, np.random.default_rng(0)) is None
+    rows = anchor_rows(marks.shape, 4, np.random.default_rng(0))
+    assert len(rows) == -(-ANCHORS // 800) < 2000 and np.all(np.diff(rows) > 0)
+    assert rows[0] < 20 and rows[-1] > 1976  # from the whole height
+    full = difference_histograms(marks, offsets, 15, False)
+    sampled = difference_histograms(strips(marks, rows, 4), offsets, 15, False)
+    assert np.all(sampled.sum(axis=1) >= ANCHORS * 0.99) and sampled.sum() < full.sum() / 1.4
+    distance = np.sqrt(((sampled / sampled.sum(1, keepdims=True)
+                         - full / full.sum(1, keepdims=True)) ** 2).sum(axis=1))
+    assert distance.max() < co.THRESHOLD / 10
+
+
+def test_a_large_photo_s_model_holds_the_statistics_of_all_of_it():
+    """A photo whose top and bottom differ (dark above, light below): the sampled model's
+    grey-level histogram holds both halves in their share, as the whole photo's does."""
+    photo = 0.1 * smooth_noise((1200, 1000), seed=5, channels=1)
+    photo[:400] += 0.2
+    photo[400:] += 0.7
+    model = co.fit(photo, max_cliques=2, max_offset=2, levels=8, seed=0)
+    channel = model.channels[0]
+    g = len(channel.levels)
+    grey = (channel.lo + (np.arange(g) + 0.5) * (channel.hi - channel.lo) / g) \
+        * model.basis[0, 0] + model.mean[0]
+    dark = float(np.asarray(channel.singleton, np.float64)[grey < 0.45].sum())
+    assert dark == pytest.approx(1 / 3, abs=0.03)

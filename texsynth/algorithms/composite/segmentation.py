@@ -25,7 +25,10 @@ Deviations, one line each:
 - the greedy merge-then-move heuristic stands in for the approximation algorithm of the paper's
   reference [4];
 - groups holding less than ``min_fraction`` of the pixels are dropped (their pixels go to the
-  next most similar group).
+  next most similar group);
+- an image of more than ``SAMPLE_PIXELS`` pixels: the centre, the sample graph's vertices and
+  the class shares come from a regular sample of ``SAMPLE_PIXELS`` of its pixels (then every
+  pixel is labelled).
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from scipy import ndimage
 
 from ... import validation
 from ...blocks.color import srgb_to_linear
+from ...blocks.parallel import run, small_product
 
 __all__ = ["lab", "features", "partition", "segment", "labels_from_image", "label_colours",
            "MAX_CLASSES"]
@@ -48,6 +52,12 @@ AUTO_CONTRASTS = (6.0, 3.0, 2.0)
 MIN_FRACTION = 0.02
 #: 5 x 5 Gaussian of the paper: sigma 1 truncated at 2 pixels.
 SIGMA, RADIUS = 1.0, 2
+#: Rows the texture features reach: a derivative (1) under a Gaussian of sigma 3 cut at 4 sigma.
+TEXTURE_MARGIN = 13
+#: Rows of the image computed at once (features) and pixels labelled at once.
+BAND, CHUNK = 256, 1 << 18
+#: Pixels of a larger image its feature centre and sample graph are drawn from.
+SAMPLE_PIXELS = 1 << 20
 
 _RGB_TO_XYZ = np.array([[0.4124, 0.3576, 0.1805],
                         [0.2126, 0.7152, 0.0722],
@@ -65,12 +75,34 @@ def lab(image: np.ndarray) -> np.ndarray:
                      200 * (f[..., 1] - f[..., 2])], axis=2).astype(np.float32)
 
 
-def features(image: np.ndarray, texture: bool = False) -> np.ndarray:
+def features(image: np.ndarray, texture: bool = False, tick=None) -> np.ndarray:
     """Per-pixel feature vectors (H, W, F): smoothed Lab, plus filter-bank energies if asked.
 
     The filter bank: local energy (Gaussian sigma 3) of the horizontal and vertical derivatives
     and of the Laplacian of L, in L units, so a smooth and a rough patch of one colour differ.
+    Computed in bands of ``BAND`` rows on every core, each with the rows its filters reach
+    (periodically) around it: the same numbers as the whole image at once. ``tick()``, when
+    given, is called after each band (where a caller may cancel).
     """
+    a = np.asarray(image, np.float32)
+    h, w = a.shape[:2]
+    out = np.empty((h, w, 6 if texture else 3), np.float32)
+    margin = TEXTURE_MARGIN if texture else RADIUS
+
+    def band(rows):
+        y0, y1 = rows
+        if y1 - y0 == h:
+            out[:] = _features(a, texture)
+            return
+        window = np.take(a, np.arange(y0 - margin, y1 + margin) % h, axis=0)
+        out[y0:y1] = _features(window, texture)[margin:margin + y1 - y0]
+
+    run(band, [(y, min(y + BAND, h)) for y in range(0, h, BAND)], tick)
+    return out
+
+
+def _features(image: np.ndarray, texture: bool) -> np.ndarray:
+    """:func:`features` of one image (or band), periodic."""
     f = lab(image)
     smooth = np.stack([ndimage.gaussian_filter(f[:, :, c], SIGMA, truncate=RADIUS / SIGMA,
                                                mode="wrap") for c in range(3)], axis=2)
@@ -137,45 +169,58 @@ def partition(w: np.ndarray) -> np.ndarray:
 
 def segment(image, *, samples: int = SAMPLES, contrast: float = CONTRAST, texture: bool = False,
             min_fraction: float = MIN_FRACTION, seed: int | np.random.Generator = 0,
-            ) -> np.ndarray:
+            tick=None) -> np.ndarray:
     """Labels int32 (H, W), 0..K-1 with K found by the partitioning, largest class first.
 
     ``image``: sRGB-encoded (H, W) or (H, W, C) in [0, 1]. ``samples``: vertices of the sample
     graph. ``contrast``: the constant feature component (Lab units; larger merges more; 0:
-    automatic, see the module notes). ``texture``: add the filter-bank features.
+    automatic, see the module notes). ``texture``: add the filter-bank features. ``tick()``,
+    when given, is called every few rows (where a caller may cancel).
     """
     a = validation.image(image, what="the image to segment", min_side=4)
     contrast = validation.number(contrast, "contrast (Lab units; 0: automatic)", 0.0, 100.0)
-    f = features(a, texture)
+    f = features(a, texture, tick)
     for c in AUTO_CONTRASTS if contrast == 0 else (contrast,):
-        labels = _segment(f, samples, c, min_fraction, np.random.default_rng(seed))
+        labels = _segment(f, samples, c, min_fraction, np.random.default_rng(seed), tick)
         if labels.max() > 0:
             break
     return labels
 
 
 def _segment(f: np.ndarray, samples: int, contrast: float, min_fraction: float,
-             rng: np.random.Generator) -> np.ndarray:
-    """:func:`segment` at one contrast, on the features ``f`` (H, W, F)."""
+             rng: np.random.Generator, tick=None) -> np.ndarray:
+    """:func:`segment` at one contrast, on the features ``f`` (H, W, F). The centre, the sample
+    graph and the class shares come from every ``step``-th pixel (every pixel up to
+    ``SAMPLE_PIXELS``); every pixel is then labelled, ``CHUNK`` at a time."""
     h, w, k = f.shape
     flat = f.reshape(-1, k)
-    lo, hi = np.percentile(flat, [2, 98], axis=0)
+    sample = flat[::-(-flat.shape[0] // SAMPLE_PIXELS)]
+    lo, hi = np.percentile(sample, [2, 98], axis=0)
     centre = ((lo + hi) / 2).astype(np.float32)
-    pick = rng.choice(flat.shape[0], size=min(samples, flat.shape[0]), replace=False)
-    v = _unit(flat[pick], centre, contrast)
+    pick = rng.choice(sample.shape[0], size=min(samples, sample.shape[0]), replace=False)
+    v = _unit(sample[pick], centre, contrast)
     group = partition(v @ v.T)
     means = np.stack([v[group == g].mean(axis=0) for g in range(group.max() + 1)])
     norm = np.linalg.norm(means, axis=1, keepdims=True)
     means /= np.where(norm > 0, norm, 1)
-    similarity = _unit(flat, centre, contrast) @ means.T
+
+    def nearest(pixels, keep):
+        similarity = small_product("nf,gf->ng", _unit(pixels, centre, contrast), means)
+        return np.where(keep, similarity, -np.inf).argmax(axis=1)
+
     keep = np.ones(len(means), bool)
     while True:
-        labels = np.where(keep, similarity, -np.inf).argmax(axis=1)
-        share = np.bincount(labels, minlength=len(means)) / labels.size
+        share = np.bincount(nearest(sample, keep), minlength=len(means)) / sample.shape[0]
         small = keep & (share < min_fraction)
         if not small.any() or keep.sum() == 1:
             break
         keep[np.flatnonzero(small)[np.argmin(share[small])]] = False
+    labels = np.empty(flat.shape[0], np.int64)
+
+    def label(a):
+        labels[a:a + CHUNK] = nearest(flat[a:a + CHUNK], keep)
+
+    run(label, range(0, flat.shape[0], CHUNK), tick)
     order = np.argsort(-np.bincount(labels, minlength=len(means)), kind="stable")
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))

@@ -43,6 +43,10 @@ Deviations, one line each:
 - the in-place selection runs on a window of the exemplar (at most ``selection_size`` a
   side) where class n is most frequent, treated as a torus;
 - the paper's future-work note (simultaneous synthesis of all subtextures) is not attempted;
+- an exemplar of more than ``cliques.ANCHORS`` pixels: the subtextures' statistics (colour PCA,
+  singletons, own and interaction histograms, which classes meet) come from its sample of
+  strips (``cliques.anchor_rows``), the complexity order from a regular sample of its pixels;
+  the selection windows are its own pixels;
 - production sizes (multiresolution relaxation, as ``texsynth.cooccurrence``): with
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
   filled at half size (exemplar, labels and output labels halved), upsampled, and relaxed from
@@ -65,8 +69,23 @@ from ...registry import Param, get_method, methods
 from ..cooccurrence import COARSE_PIXELS, REFINE_SWEEPS, upsample_half
 from ..cooccurrence import METHOD as CLIQUE_MODEL
 from ..cooccurrence import model as co
-from ..cooccurrence.cliques import Relaxation, Term, difference_histograms, half_offsets
-from .segmentation import CONTRAST, label_colours, labels_from_image, segment
+from ..cooccurrence.cliques import (
+    Relaxation,
+    Term,
+    anchor_rows,
+    difference_histograms,
+    half_offsets,
+    heads,
+    pair_values,
+    strips,
+)
+from .segmentation import (
+    CONTRAST,
+    SAMPLE_PIXELS,
+    label_colours,
+    labels_from_image,
+    segment,
+)
 
 __all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
            "class_proportion_error", "INTERACTION_DISTANCE", "MIN_SQUARE", "PARAMS"]
@@ -112,10 +131,13 @@ PARAMS = (
 
 def memory(shape, width, height, params) -> float:
     """Peak bytes: the clique model's working set, the label maps, which (term, end)
-    columns each pixel takes part in (2 bytes per selected type and pixel) and their summed
-    second-order weight (a float64 per pixel)."""
-    return (CLIQUE_MODEL.memory(shape, width, height, params)
-            + (24 + 2 * params["max_cliques"]) * width * height)
+    columns each pixel takes part in (2 bytes per typical selected type and pixel) and their
+    summed second-order weight (a float64 per pixel); the exemplar's segmentation (features,
+    labels and a block index: 32 bytes a pixel) and its sampled labels, marks and counts (16
+    bytes a sampled pixel)."""
+    t = min(params["max_cliques"], co.TYPICAL_TYPES)
+    return (CLIQUE_MODEL.memory(shape, width, height, params) + (24 + 2 * t) * width * height
+            + 32 * shape[0] * shape[1] + 16 * co.sampled_pixels(shape, params["max_offset"]))
 
 
 @dataclass(frozen=True)
@@ -132,13 +154,16 @@ class Composite:
 
 
 def complexity_order(exemplar: np.ndarray, labels: np.ndarray, bins: int = 8) -> list[int]:
-    """Classes by the entropy of their colour histogram (``bins`` per channel), lowest first."""
+    """Classes by the entropy of their colour histogram (``bins`` per channel), lowest first;
+    from every ``step``-th pixel of an exemplar of more than ``segmentation.SAMPLE_PIXELS``."""
     x = np.asarray(exemplar, np.float32)
-    lo, hi = x.min(axis=(0, 1)), x.max(axis=(0, 1))
+    step = -(-labels.size // SAMPLE_PIXELS)
+    x, labels = x.reshape(-1, x.shape[2])[::step], np.asarray(labels).ravel()[::step]
+    lo, hi = x.min(axis=0), x.max(axis=0)
     q = np.clip(((x - lo) / np.maximum(hi - lo, 1e-6) * bins).astype(np.int64), 0, bins - 1)
     code = np.zeros(labels.shape, np.int64)
-    for c in range(x.shape[2]):
-        code = code * bins + q[:, :, c]
+    for c in range(x.shape[1]):
+        code = code * bins + q[:, c]
     entropy = []
     for k in range(int(labels.max()) + 1):
         p = np.bincount(code[labels == k]).astype(np.float64)
@@ -167,11 +192,12 @@ def _run_length(labels: np.ndarray) -> float:
 
 
 def _downscale(labels: np.ndarray, f: int, classes: int) -> np.ndarray:
-    """Majority label of each f x f block."""
+    """Majority label of each f x f block (the smallest label among tied ones)."""
     h, w = (labels.shape[0] // f) * f, (labels.shape[1] // f) * f
-    blocks = labels[:h, :w].reshape(h // f, f, w // f, f)
-    votes = np.stack([(blocks == k).sum(axis=(1, 3)) for k in range(classes)])
-    return votes.argmax(axis=0).astype(np.int32)
+    block = (np.arange(h)[:, None] // f) * (w // f) + np.arange(w) // f
+    votes = np.bincount((block * classes + labels[:h, :w]).ravel(),
+                        minlength=block.size // (f * f) * classes)
+    return votes.reshape(h // f, w // f, classes).argmax(axis=2).astype(np.int32)
 
 
 def _upscale(labels: np.ndarray, height: int, width: int, classes: int,
@@ -216,6 +242,7 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     classes = int(labels.max()) + 1
     f = label_scale or int(np.clip(round(_run_length(labels) / max_offset), 1, 8))
     f = max(1, min(f, min(labels.shape) // 32 or 1))
+    report(0.0, "modelling the label texture")
     small = _downscale(labels, f, classes) if f > 1 else labels
     model = co.fit_labels(small, classes, seed=rng, max_offset=max_offset, threshold=threshold,
                           max_cliques=max_cliques, progress=report.span(0.0, 0.3))
@@ -243,25 +270,52 @@ def _window(mask: np.ndarray, side: int) -> tuple[slice, slice]:
 
 
 def _neighbours(labels: np.ndarray, n: int, distance: int) -> list[int]:
-    """Classes with a pixel within ``distance`` (Chebyshev) of a pixel of class n."""
+    """Classes with a pixel within ``distance`` (Chebyshev) of a pixel of class n: the other
+    ends of the cliques of types up to ``distance`` that have one end in n (``labels``: an
+    image, or its sample of strips)."""
     if distance < 1:
         return []
-    near = ndimage.binary_dilation(labels == n, np.ones((2 * distance + 1,) * 2, bool))
-    return [int(m) for m in np.unique(labels[near]) if m != n]
+    near = np.zeros(int(labels.max()) + 1, bool)
+    for d in half_offsets(distance):
+        head, tail = pair_values(labels, d, False)
+        near[tail[head == n]] = True
+        near[head[tail == n]] = True
+    near[n] = False
+    return [int(m) for m in np.flatnonzero(near)]
+
+
+def _own_histograms(marks: np.ndarray, labels: np.ndarray, offsets: np.ndarray, span: int,
+                    classes: int, tick=None) -> np.ndarray:
+    """Step 1's own cliques of every class at once: counts int64 (types, classes, bins) of the
+    cliques of each type with both ends in one class (a class's own cliques see its real
+    values whatever the order). ``tick()``, when given, is called before each group of types."""
+    bins = 2 * span + 1
+    out = np.zeros((len(offsets), classes, bins), np.int64)
+    for i, d in enumerate(offsets):
+        if tick is not None and i % CANDIDATE_GROUP == 0:
+            tick()
+        head, tail = pair_values(marks, d, False)
+        lh, lt = pair_values(labels, d, False)
+        code = np.where(lh == lt, lh * bins + tail - head + span, classes * bins)
+        out[i] = np.bincount(code.ravel(), minlength=(classes + 1) * bins)[:classes * bins
+                                                                          ].reshape(classes, bins)
+    return out
 
 
 def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int], span: int,
-                max_offset: int, distance: int, tick=None) -> tuple[list[Term], np.ndarray]:
-    """Step 1 for class n: its own clique types and its interaction types, with the exemplar's
-    normalised histograms and clique counts; types with fewer than ``MIN_PAIRS`` cliques are
-    left out. ``tick()``, when given, is called before each group of types."""
-    own = half_offsets(max_offset)
+                max_offset: int, own: np.ndarray, distance: int,
+                tick=None) -> tuple[list[Term], np.ndarray]:
+    """Step 1 for class n: its own clique types up to ``max_offset`` (``own``: their counts
+    from :func:`_own_histograms`) and its interaction types, with the exemplar's normalised
+    histograms and clique counts; types with fewer than ``MIN_PAIRS`` cliques are left out.
+    ``tick()``, when given, is called before each group of interaction types."""
+    types = half_offsets(max_offset)
     near = half_offsets(distance) if distance >= 1 else np.zeros((0, 2), np.int32)
-    spec = [(d, n, n) for d in own]
+    spec = [(d, n, n) for d in types]
     for m in others:
         spec += [(d, n, m) for d in near] + [(d, m, n) for d in near]
-    counts = []
-    for a in range(0, len(spec), CANDIDATE_GROUP):
+    counts = [own[:, n]]
+    for a in range(len(types), len(spec), CANDIDATE_GROUP):
         if tick is not None:
             tick()
         group = spec[a:a + CANDIDATE_GROUP]
@@ -280,42 +334,64 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                        start=None, start_labels=None):
     """Section 4: every PCA component, every class in ``order``, with interactions; each
     region relaxed from noise, or from the image ``start`` (the output's size) when given,
-    whose pixels take the class ``start_labels`` (noise where that is not their own class)."""
-    pca = ColorPCA.fit(x)
-    comp = pca.forward(x)
+    whose pixels take the class ``start_labels`` (noise where that is not their own class).
+    The exemplar's statistics come from its sample of strips (``cliques.anchor_rows``: every
+    pixel up to ``cliques.ANCHORS``), its selection windows from its own pixels."""
+    reach = max(max_offset, interaction_distance)
+    rows = anchor_rows(labels.shape, reach, rng)
+    report(0.0, "exemplar statistics")
+    xs, ls = strips(x, rows, reach), strips(labels, rows, reach)
+    ls_heads = heads(ls, rows)
+    pca = ColorPCA.fit(heads(xs, rows))
+    comp = co.principal_components(pca, xs, report)
+    report(0.0, "exemplar statistics")
     initial = None if start is None else pca.forward(start)
-    lo, hi = comp.min(axis=(0, 1)), comp.max(axis=(0, 1))
+    report(0.0, "exemplar statistics")
+    axes = tuple(range(comp.ndim - 1))
+    lo, hi = comp.min(axis=axes), comp.max(axis=axes)
     width = max(float(hi[0] - lo[0]), 1e-6) / levels
     channels = x.shape[2]
     present = [n for n in order if (out_labels == n).any()]
+    # per class: its selection window of the exemplar (labels, colour components) and the
+    # classes within reach of its interaction cliques
+    windows = {}
+    for n in present:
+        report(0.0, "exemplar statistics")
+        wy, wx = _window(labels == n, selection_size)
+        windows[n] = labels[wy, wx], pca.forward(x[wy, wx])
+    others = {n: _neighbours(ls, n, interaction_distance) for n in present}
+    classes = int(labels.max()) + 1
     out = np.zeros(out_labels.shape + (channels,), np.float32)
     steps = channels * len(present)
     for k in range(channels):
         g = int(np.clip(np.ceil((hi[k] - lo[k]) / width), 2, levels))
         levels_k = np.arange(g, dtype=np.int32)
-        marks = co.quantize(comp[:, :, k], lo[k], lo[k] + g * width, g)
+        report(k / channels, "exemplar statistics")
+        marks = co.quantize(comp[..., k], lo[k], lo[k] + g * width, g)
+        marks_heads = heads(marks, rows)
         zero = int(co.quantize(np.float32(0.0), lo[k], lo[k] + g * width, g))
         synth = np.full(out_labels.shape, zero, np.int32)
+        own = _own_histograms(marks, ls, half_offsets(max_offset), g - 1, classes,
+                              lambda k=k: report(k / channels, "exemplar statistics"))
         for i, n in enumerate(present):
             part = report.span((k * len(present) + i) / steps,
                                (k * len(present) + i + 1) / steps)
             later = order[order.index(n) + 1:]
             seen = marks.copy()
-            seen[np.isin(labels, later)] = zero
-            own = labels == n
-            singleton = np.bincount(marks[own], minlength=g).astype(np.float64)
+            seen[np.isin(ls, later)] = zero
+            singleton = np.bincount(marks_heads[ls_heads == n], minlength=g).astype(np.float64)
             singleton /= singleton.sum()
-            others = _neighbours(labels, n, interaction_distance)
-            candidates, counts = _candidates(seen, labels, n, others, g - 1, max_offset,
+            candidates, counts = _candidates(seen, ls, n, others[n], g - 1, max_offset, own,
                                              interaction_distance,
                                              lambda part=part: part(0.0, "exemplar statistics"))
             # steps 2-7 in place, on the window of the exemplar where class n is most frequent
-            wy, wx = _window(own, selection_size)
-            start = seen[wy, wx].copy()
-            free = labels[wy, wx] == n
+            window, window_comp = windows[n]
+            start = co.quantize(window_comp[..., k], lo[k], lo[k] + g * width, g)
+            start[np.isin(window, later)] = zero
+            free = window == n
             start[free] = levels_k[rng.integers(0, g, int(free.sum()))]
             chosen, _ = co.select(candidates, counts, singleton, levels_k, start, rng,
-                                  labels[wy, wx], n, threshold, max_cliques, co.SELECTION_SWEEPS,
+                                  window, n, threshold, max_cliques, co.SELECTION_SWEEPS,
                                   co.STEP, part.span(0.0, 0.4))
             # synthesis of class n in the output, earlier classes in place, later ones 0
             region = out_labels == n
@@ -347,9 +423,11 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
     classes = int(max(labels.max(), out_labels.max())) + 1
     start = start_labels = None
     if width * height > COARSE_PIXELS and min(h, w) >= 64 and height % 2 == width % 2 == 0:
+        report(0.0, "halving the exemplar")
         half_lab, half_out = _downscale(labels, 2, classes), _downscale(out_labels, 2, classes)
-        if (set(np.unique(half_lab)) == set(np.unique(labels))
-                and set(np.unique(half_out)) == set(np.unique(out_labels))):
+        if (np.array_equal(_present(half_lab, classes), _present(labels, classes))
+                and np.array_equal(_present(half_out, classes), _present(out_labels, classes))):
+            report(0.0, "halving the exemplar")
             half = x[:h // 2 * 2, :w // 2 * 2].reshape(h // 2, 2, w // 2, 2, -1).mean(axis=(1, 3))
             coarse = _fill_coarse_to_fine(half, half_lab, half_out, order, rng,
                                           report.span(0.0, 0.4), interaction_distance,
@@ -363,6 +441,11 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
                               max_offset, threshold, max_cliques, levels, sweeps,
                               selection_size, start, start_labels)
+
+
+def _present(labels: np.ndarray, classes: int) -> np.ndarray:
+    """Which of the classes occur in ``labels`` (bool (classes,))."""
+    return np.bincount(labels.ravel(), minlength=classes) > 0
 
 
 def _inscribed_square(mask: np.ndarray) -> tuple[slice, slice, int]:
@@ -463,7 +546,8 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     h, w = x.shape[:2]
     if labels is None:
         report(0.0, "segmenting the exemplar")
-        lab = segment(x, contrast=contrast, texture=texture_features, seed=rng)
+        lab = segment(x, contrast=contrast, texture=texture_features, seed=rng,
+                      tick=lambda: report(0.0, "segmenting the exemplar"))
         report(0.02, "modelling the label texture")
     else:
         lab = _as_labels(labels, (h, w), "label image")
@@ -510,7 +594,9 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
 
 
 def cost(shape, width, height, params):
-    """Segmentation, then a clique model per class (each over its share of the output, with
-    interactions) and the label texture: measured 2.3 single clique models (CPU time,
-    1024 -> 2048, gravel_pebbles), both relaxed from a half-size start above COARSE_PIXELS."""
-    return 0.5 + 2.5 * CLIQUE_MODEL.cost(shape, width, height, params)
+    """Segmentation (3.5e-7 s a pixel of the exemplar), then a clique model per class (each
+    over its share of the output, with interactions) and the label texture: measured 1.9
+    single clique models (wall time, 2048 x 2048 from the 12 MP setts photo and from a 1024
+    crop of it), both relaxed from a half-size start above COARSE_PIXELS."""
+    return 0.5 + 3.5e-7 * shape[0] * shape[1] + 1.9 * CLIQUE_MODEL.cost(shape, width, height,
+                                                                          params)

@@ -20,6 +20,7 @@ import numpy as np
 from scipy.ndimage import zoom
 
 from ...registry import Method, register
+from .cliques import CHUNK
 from .model import (
     LEVELS,
     MAX_CLIQUES,
@@ -28,8 +29,10 @@ from .model import (
     SELECTION_SIZE,
     SWEEPS,
     THRESHOLD,
+    TYPICAL_TYPES,
     Model,
     fit,
+    sampled_pixels,
     synthesize,
 )
 from .model import cost as model_cost
@@ -49,6 +52,7 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                   levels=levels)
     start = None
     if width * height > COARSE_PIXELS and min(exemplar.shape[:2]) >= 32:
+        progress(0.0, "halving the exemplar")
         h, w = exemplar.shape[0] // 2, exemplar.shape[1] // 2
         half = exemplar[:2 * h, :2 * w].reshape(h, 2, w, 2, -1).mean(axis=(1, 3))
         coarse = cooccurrence(half, -(-width // 2), -(-height // 2), rng,
@@ -89,12 +93,17 @@ def _cost(shape, width, height, params):
 
 
 def _memory(shape, width, height, params):
-    """Synthesis: padded image, per-set (pixels x 2T) gathers, a colouring and the float output.
-    Selection: every candidate type's pairs on the selection torus (3 arrays of 8 bytes)."""
-    t = 2 * params["max_cliques"]
+    """Synthesis: padded image, colouring and float output per pixel, and a chunk's (pixels,
+    2T) gathers and counts (three int64 arrays, T the typical number of types); exemplar: the
+    sampled strips (colours and components, float32, and one channel's marks) and the
+    half-size exemplar; selection: every candidate type's pairs on the selection torus."""
+    t = 2 * min(params["max_cliques"], TYPICAL_TYPES)
     candidates = ((2 * params["max_offset"] + 1) ** 2 - 1) // 2
     selection = candidates * SELECTION_SIZE ** 2 * 24
-    return width * height * (4 * 6 + 3 * 4 * shape[2]) + 16 * t * width * height / 4 + selection
+    chunk = min(CHUNK, width * height) * t * 8 * 3
+    exemplar = sampled_pixels(shape, params["max_offset"]) * (8 * shape[2] + 4) \
+        + shape[0] * shape[1] * shape[2]
+    return width * height * (4 * 6 + 3 * 4 * shape[2]) + chunk + exemplar + selection
 
 
 METHOD = register(Method(

@@ -8,6 +8,13 @@ type; the singleton histogram is the histogram of u itself. Section 4 adds cliqu
 and tail p + d lie in given subtextures (classes a and b of a label map): a :class:`Term` is one
 clique type restricted to heads in class a and tails in class b (a = b for a plain subtexture).
 
+A large exemplar's histograms are estimated from a sample of its cliques (deviation: the paper
+counts every pixel): the heads on ``ANCHORS`` pixels of randomly drawn whole rows
+(:func:`anchor_rows`), each with the rows its clique types reach below it (:func:`strips`). The
+Euclidean distance of the estimate to the full count stays below a tenth of the selection
+threshold (measured on the 12 MP setts photo, 32 levels, 144 types, three seeds: at most 0.0031,
+mean 0.0012-0.0020, in 1.1 s instead of 25 s; tests/test_cooccurrence.py checks it).
+
 Images here are integer "marks" in [0, span]. For grey levels the marks are the levels
 0..G-1; a label map uses marks of a Golomb ruler (0, 1, 3, 7, ...), whose pairwise differences are
 all distinct, so a difference histogram of marks is the ordered co-occurrence of labels.
@@ -45,6 +52,10 @@ from ...blocks.parallel import run
 
 __all__ = [
     "GOLOMB",
+    "ANCHORS",
+    "anchor_rows",
+    "strips",
+    "heads",
     "half_offsets",
     "pair_values",
     "difference_histograms",
@@ -54,6 +65,9 @@ __all__ = [
     "Relaxation",
     "CONVERGED",
 ]
+
+#: Clique heads per type from which a larger exemplar's histograms are estimated.
+ANCHORS = 1 << 20
 
 #: Elements of the (pixels, 2T) work arrays a sweep forms at once (a block of a set's pixels).
 BLOCK = 1 << 16
@@ -87,15 +101,47 @@ def half_offsets(max_offset: int) -> np.ndarray:
     return d[order]
 
 
+def anchor_rows(shape, reach: int, rng: np.random.Generator) -> np.ndarray | None:
+    """Rows of the clique heads a photograph of ``shape`` (H, W, ...) is counted on: None (every
+    row) for at most ``ANCHORS`` pixels, else ceil(ANCHORS / W) rows drawn at random (sorted,
+    no repeats) among those with ``reach`` rows below them. ``rng`` is used only to draw."""
+    h, w = shape[:2]
+    count = -(-ANCHORS // w)
+    if h * w <= ANCHORS or count >= h - reach:
+        return None
+    return np.sort(rng.choice(h - reach, count, replace=False))
+
+
+def strips(image: np.ndarray, rows: np.ndarray | None, reach: int) -> np.ndarray:
+    """The sample of ``image`` (H, W, ...) the cliques are counted on: the image itself when
+    ``rows`` is None, else each anchor row with the ``reach`` rows below it, (R, reach + 1, W,
+    ...): clique types (dy, dx) with 0 <= dy <= reach have their heads in a strip's first row."""
+    if rows is None:
+        return image
+    return image[rows[:, None] + np.arange(reach + 1)]
+
+
+def heads(sample: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
+    """The anchor pixels of ``strips(image, rows, reach)`` (the image itself, or the strips'
+    first rows): each pixel once, for the singleton histogram and colour statistics."""
+    return sample if rows is None else sample[:, 0]
+
+
 def pair_values(a: np.ndarray, offset, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
     """(head, tail) values of every clique of type ``offset`` in the 2-D array ``a``.
 
     Periodic: every pixel is a head and its tail wraps around. Otherwise only pairs with both
-    pixels inside the array (a photograph's border is no clique).
+    pixels inside the array (a photograph's border is no clique). ``a`` may be a sample of
+    strips (R, reach + 1, W) from :func:`strips`: heads in each strip's first row, 0 <= dy <=
+    reach.
     """
     dy, dx = int(offset[0]), int(offset[1])
     if periodic:
         return a, np.roll(a, (-dy, -dx), axis=(0, 1))
+    if a.ndim == 3:
+        w = a.shape[2]
+        x0, x1 = max(0, -dx), w - max(0, dx)
+        return a[:, 0, x0:x1], a[:, dy, x0 + dx:x1 + dx]
     h, w = a.shape
     y0, y1 = max(0, -dy), h - max(0, dy)
     x0, x1 = max(0, -dx), w - max(0, dx)
@@ -106,9 +152,10 @@ def difference_histograms(u: np.ndarray, offsets, span: int, periodic: bool,
                           labels: np.ndarray | None = None, classes=None) -> np.ndarray:
     """Counts of u(p + d) - u(p) for each offset d: int64 (n, 2 * span + 1), bin 0 = -span.
 
-    ``u`` holds integer marks in [0, span]. With ``labels`` and ``classes`` (one (head, tail)
-    class pair per offset), only cliques whose head is in the first class and tail in the
-    second are counted (section 4's interaction cliques).
+    ``u`` holds integer marks in [0, span]: an image, or a sample of it from :func:`strips`
+    (``labels`` then the same sample of the labels). With ``labels`` and ``classes`` (one
+    (head, tail) class pair per offset), only cliques whose head is in the first class and tail
+    in the second are counted (section 4's interaction cliques).
     """
     u = np.asarray(u, np.int32)
     bins = 2 * span + 1

@@ -33,6 +33,9 @@ Deviations, one line each:
   sweeps instead of restarting from noise;
 - selection synthesizes on a torus of at most ``selection_size`` pixels a side; the exemplar's
   histograms use only pairs inside the photograph (no wrap-around pairs);
+- an exemplar of more than ``cliques.ANCHORS`` pixels is analysed on a sample
+  (``cliques.anchor_rows``): its colour PCA, ranges, singleton and clique histograms come from
+  ``ANCHORS`` heads on randomly drawn rows of the whole photograph, not from every pixel;
 - histograms are stored as float16 (the file is the model; reloading gives the same numbers);
 - ``sweeps`` is a most: synthesis ends after a sweep that changes fewer than
   ``cliques.CONVERGED`` of the pixels (a label map converges in about 12 of 30, measured).
@@ -54,10 +57,21 @@ from ... import budget, validation
 from ...blocks.color import ColorPCA
 from ...progress import Progress
 from ...registry import Param
-from .cliques import GOLOMB, PairIndex, Relaxation, Term, difference_histograms, half_offsets
+from .cliques import (
+    ANCHORS,
+    GOLOMB,
+    PairIndex,
+    Relaxation,
+    Term,
+    anchor_rows,
+    difference_histograms,
+    half_offsets,
+    heads,
+    strips,
+)
 
 __all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
-           "label_levels", "FORMAT", "PARAMS"]
+           "label_levels", "principal_components", "FORMAT", "PARAMS"]
 
 FORMAT = "texsynth-cooccurrence-1"
 MAX_OFFSET = 8
@@ -69,6 +83,10 @@ SELECTION_SIZE = 64
 SELECTION_SWEEPS = 6
 #: Half-width (in levels) of the local proposals for grey levels.
 STEP = 3
+#: Clique types counted in the exemplar between two progress reports.
+TYPE_GROUP = 16
+#: Rows (or strips) of the exemplar turned into colour components between two progress reports.
+ROWS = 64
 
 #: The method's parameters (the registered ``cooccurrence`` method's, checked by :func:`fit`
 #: and :func:`synthesize` too).
@@ -311,24 +329,44 @@ def select(candidates: list[Term], exemplar_pairs: np.ndarray, singleton: np.nda
                  f"{len(selected)} clique types, worst distance {dist[worst]:.3f}")
 
 
+def reach(max_offset: int, shape) -> int:
+    """The longest clique type an exemplar of ``shape`` (H, W, ...) is fitted with: at most
+    ``max_offset``, and short of half its smaller side."""
+    return min(max_offset, max(1, min(shape[:2]) // 2 - 1))
+
+
+def exemplar_histograms(marks: np.ndarray, offsets: np.ndarray, span: int,
+                        progress: Progress) -> np.ndarray:
+    """Step 1: :func:`.cliques.difference_histograms` of ``marks`` (an image or its sample of
+    strips), ``TYPE_GROUP`` types between two progress reports."""
+    counts = []
+    for a in range(0, len(offsets), TYPE_GROUP):
+        progress(0.0, "exemplar statistics")
+        counts.append(difference_histograms(marks, offsets[a:a + TYPE_GROUP], span, False))
+    return np.concatenate(counts)
+
+
 def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                 rng: np.random.Generator, max_offset: int = MAX_OFFSET,
                 threshold: float = THRESHOLD, max_cliques: int = MAX_CLIQUES,
                 selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
                 categorical: bool = False, progress: Progress | None = None) -> ChannelModel:
-    """The clique model of one channel of marks (H, W) taking values in ``levels``."""
+    """The clique model of one channel of marks taking values in ``levels``: an image (H, W),
+    or the sample of strips of a large one (``cliques.strips``, reaching ``max_offset``, which
+    is then taken as it is: :func:`reach` bounds it for a whole image)."""
     progress = progress or Progress()
-    progress(0.0, "exemplar statistics")
     span = int(levels.max())
-    max_offset = min(max_offset, max(1, min(marks.shape) // 2 - 1))
+    anchors = marks[:, 0] if marks.ndim == 3 else marks  # cliques.heads
+    if marks.ndim == 2:
+        max_offset = reach(max_offset, marks.shape)
     offsets = half_offsets(max_offset)
-    counts = difference_histograms(marks, offsets, span, False)  # step 1
+    counts = exemplar_histograms(marks, offsets, span, progress)
     target = counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
     index = np.full(span + 1, -1, np.int64)
     index[levels] = np.arange(len(levels))
-    singleton = np.bincount(index[marks.ravel()], minlength=len(levels)).astype(np.float64)
+    singleton = np.bincount(index[anchors.ravel()], minlength=len(levels)).astype(np.float64)
     singleton /= singleton.sum()
-    shape = tuple(min(s, selection_size) for s in marks.shape)
+    shape = tuple(min(s, selection_size) for s in anchors.shape)
     start = levels[rng.integers(0, len(levels), shape)]  # step 2
     candidates = [Term((int(d[0]), int(d[1])), t) for d, t in zip(offsets, target, strict=True)]
     chosen, added = select(candidates, counts.sum(axis=1), singleton, levels, start, rng, None,
@@ -338,6 +376,16 @@ def fit_channel(marks: np.ndarray, levels: np.ndarray, lo: float, hi: float,
                         singleton.astype(np.float16), offsets[chosen].reshape(-1, 2),
                         target[chosen].astype(np.float16).reshape(len(chosen), 2 * span + 1),
                         np.array(added, np.float32), categorical)
+
+
+def principal_components(pca: ColorPCA, sample: np.ndarray, progress: Progress) -> np.ndarray:
+    """``pca.forward(sample)`` (an image or its sample of strips), ``ROWS`` rows or strips at a
+    time with a progress report before each (a sample of a large photo holds millions)."""
+    out = np.empty(sample.shape[:-1] + (pca.basis.shape[1],), np.float32)
+    for a in range(0, len(sample), ROWS):
+        progress(0.0, "colour statistics")
+        out[a:a + ROWS] = pca.forward(sample[a:a + ROWS])
+    return out
 
 
 def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
@@ -360,21 +408,29 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     selection_sweeps = validation.whole(selection_sweeps, "selection_sweeps", 1, 1000)
     rng = _rng(seed)
     report = progress if isinstance(progress, Progress) else Progress(progress)
-    pca = ColorPCA.fit(x)
-    components = pca.forward(x)
+    m = reach(max_offset, x.shape)
+    report(0.0, "colour statistics")
+    rows = anchor_rows(x.shape, m, rng)
+    sample = strips(x, rows, m)
+    pca = ColorPCA.fit(heads(sample, rows))
+    components = principal_components(pca, sample, report)
     channels = []
     c = x.shape[2]
-    lo, hi = components.min(axis=(0, 1)), components.max(axis=(0, 1))
+    axes = tuple(range(components.ndim - 1))
+    report(0.0, "colour statistics")
+    lo, hi = components.min(axis=axes), components.max(axis=axes)
     width = max(float(hi[0] - lo[0]), 1e-6) / levels
     for k in range(c):
         # one level width for every component: a weak component gets few levels, not noise
         g = int(np.clip(np.ceil((hi[k] - lo[k]) / width), 2, levels))
-        marks = quantize(components[:, :, k], lo[k], lo[k] + g * width, g)
+        report(k / c, "exemplar statistics")
+        marks = quantize(components[..., k], lo[k], lo[k] + g * width, g)
         channels.append(fit_channel(marks, np.arange(g, dtype=np.int32), lo[k],
-                                    lo[k] + g * width, rng, max_offset, threshold, max_cliques,
+                                    lo[k] + g * width, rng, m, threshold, max_cliques,
                                     selection_size, selection_sweeps,
                                     progress=report.span(k / c, (k + 1) / c)))
-    return Model(pca.mean, pca.basis, x.min(axis=(0, 1)), x.max(axis=(0, 1)), tuple(channels),
+    return Model(pca.mean, pca.basis, sample.min(axis=axes), sample.max(axis=axes),
+                 tuple(channels),
                  {"max_offset": max_offset, "threshold": threshold, "levels": levels})
 
 
@@ -462,20 +518,32 @@ def _rng(seed) -> np.random.Generator:
 TYPICAL_TYPES = 20
 
 
+def sampled_pixels(shape, max_offset: int) -> int:
+    """Pixels of the sample an exemplar of ``shape`` is analysed on (``cliques.strips``)."""
+    h, w = shape[:2]
+    m = reach(max_offset, shape)
+    count = -(-ANCHORS // w)
+    return h * w if h * w <= ANCHORS or count >= h - m else count * (m + 1) * w
+
+
 def cost(shape, width, height, params):
-    """Selection: a round of sweeps over the selection torus per selected type and colour
-    component; synthesis: ``sweeps`` over the output with every selected type from both ends.
-    Selection stops at the threshold, after about ``TYPICAL_TYPES`` types on natural
-    textures (measured: ``max_cliques`` 20 and 40 take about the same time)."""
+    """Exemplar statistics: the clique histograms of every candidate type on at most
+    ``ANCHORS`` heads and the colour work on the sampled strips; selection: a round of sweeps
+    over the selection torus per selected type and colour component; synthesis: ``sweeps``
+    over the output with every selected type from both ends. Selection stops at the
+    threshold, after about ``TYPICAL_TYPES`` types on natural textures (measured:
+    ``max_cliques`` 20 and 40 take about the same time)."""
     h, w, c = shape
     t = min(params["max_cliques"], TYPICAL_TYPES)
     torus = min(h, SELECTION_SIZE) * min(w, SELECTION_SIZE)
     selection = c * t * SELECTION_SWEEPS * torus
-    return 0.05 + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
-                                                              params["sweeps"])
+    statistics = c * (1.5e-7 * min(h * w, ANCHORS)
+                      + 1e-7 * sampled_pixels(shape, params["max_offset"]))
+    return 0.05 + statistics + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
+                                                                   params["sweeps"])
 
 
 def synthesis_cost(channels, types, width, height, sweeps):
     """Synthesis from a fitted clique model: ``sweeps`` over the output per channel, every
     selected type looked at from both ends."""
-    return 2.7e-8 * channels * sweeps * width * height * (2 + types)
+    return 3.8e-8 * channels * sweeps * width * height * (2 + types)
