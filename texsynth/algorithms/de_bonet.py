@@ -56,8 +56,9 @@ Deviations, one line each:
 - the exemplar pyramid is built from its periodic component (Moisan), so the border jump of a
   non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
 - where the output's coarsest level is not a whole number of the exemplar's (a crop of it, when
-  the photo is the larger), its copied G_S is replaced by its periodic component (Moisan): the
-  crop's wrap would be a seam;
+  the photo is the larger), the copy's offset is drawn among those whose continuation past the
+  copy's end is nearest to its start, and its copied G_S is replaced by its periodic component
+  (Moisan): the crop's wrap would be a seam, and coherent sampling would carry it down;
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
   component of an exemplar crop (which tiles; the crop's own wrap would be a seam).
 """
@@ -400,7 +401,8 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     sources = [None] * (top + 1)
 
     hs, ws = ex_shapes[top]
-    oy, ox = rng.integers(0, hs), rng.integers(0, ws)
+    oy = _offset(features[top], out_shapes[top][0], rng)
+    ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng)
     ys = (np.arange(out_shapes[top][0]) + oy) % hs
     xs = (np.arange(out_shapes[top][1]) + ox) % ws
     sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
@@ -435,6 +437,19 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
             step(rows[-1] / (h * w), f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
     return sources
+
+
+def _offset(f: np.ndarray, n: int, rng: np.random.Generator) -> int:
+    """A random first row for a copy of ``n`` rows of the coarsest level ``f`` (h, w, F),
+    wrapping around it. When ``n`` is not a multiple of h the copy's own wrap joins row
+    o + n - 1 to row o: the draw is among the tenth of the rows o whose row o + n (the copy's
+    continuation) is nearest to row o, so the output's wrap continues the exemplar."""
+    h = f.shape[0]
+    if n % h == 0:
+        return int(rng.integers(0, h))
+    rows = np.arange(h)
+    gap = ((f[(rows + n) % h] - f[rows]) ** 2).sum(axis=(1, 2))
+    return int(rng.choice(np.argsort(gap, kind="stable")[:max(1, h // 10)]))
 
 
 def tiled_subset(shape, points: int, tile: int = TILE) -> np.ndarray | None:
