@@ -60,7 +60,7 @@ def coherent(request, monkeypatch):
 def test_threshold_zero_copies_only_identical_parent_structures(coherent):
     exemplar = _photo(size=64)
     pyramid = LaplacianPyramid((64, 64), 3)
-    features = pyramid_features(periodic_component(exemplar), pyramid, 4)
+    features = pyramid_features(exemplar, pyramid, 4)
     sources = sample_pyramid(features, pyramid.level_shapes, 0.0, 2,
                              np.random.default_rng(3), Progress())
     flat = [f.reshape(-1, f.shape[2]) for f in features]
@@ -156,7 +156,7 @@ def test_coherent_candidates_continue_a_shifted_copy_of_the_exemplar():
 
 def test_parent_space_keeps_the_distances_of_parent_structures():
     exemplar = _photo(size=64)
-    features = pyramid_features(periodic_component(exemplar), LaplacianPyramid((64, 64), 3), 4)
+    features = pyramid_features(exemplar, LaplacianPyramid((64, 64), 3), 4)
     flat = [f.reshape(-1, f.shape[2]) for f in features]
     scale = {1: 2.0, 2: 0.5}
     space = ParentSpace(features, 0, 2, scale, (64, 64), energy=1.0, max_dims=1000)

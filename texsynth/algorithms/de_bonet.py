@@ -71,7 +71,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..blocks.parallel import run
-from ..blocks.periodic import periodic_component
+from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
 
@@ -115,7 +115,9 @@ def _per_channel(level: int, top: int, orientations: int) -> int:
 
 def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientations: int,
                      tick=None) -> list[np.ndarray]:
-    """Per level, finest first, the (h_l, w_l, F_l) float32 values one location copies.
+    """Per level, finest first, the (h_l, w_l, F_l) float32 values one location copies, of
+    the periodic component of ``image`` (Moisan; analysed from its spectrum,
+    :func:`~texsynth.blocks.periodic.periodic_spectrum`).
 
     Channel by channel: its K oriented steerable bands (levels strictly between the finest and
     the coarsest), then its Laplacian level (``P_l``, or ``G_S`` at the coarsest). The oriented
@@ -128,7 +130,7 @@ def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientation
                                   full=laplacian.shape) if top > 1 else None)
     columns = [[] for _ in range(top + 1)]
     for c in range(image.shape[2]):
-        levels = laplacian.analyze(image[:, :, c])
+        levels = laplacian.analyze(None, spectrum=periodic_spectrum(image[:, :, c]))
         bands = [[], *steerable.analyze(laplacian.synthesize(levels, 1)).bands] \
             if steerable else []
         for j, level in enumerate(levels):
@@ -471,13 +473,9 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
              orientations=4):
     """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
     levels = pyramid_depth(exemplar.shape, width, height, scales)
-    periodic = np.empty_like(exemplar)
-    for c in range(exemplar.shape[2]):
-        progress(0.0, "analysing the exemplar")
-        periodic[:, :, c] = periodic_component(exemplar[:, :, c])
-    features = pyramid_features(periodic, LaplacianPyramid(exemplar.shape[:2], levels),
+    progress(0.0, "analysing the exemplar")
+    features = pyramid_features(exemplar, LaplacianPyramid(exemplar.shape[:2], levels),
                                 orientations, lambda: progress(0.0, "analysing the exemplar"))
-    del periodic
     progress(0.0, "exemplar analysed")
     pyr_output = LaplacianPyramid((height, width), levels)
     sources = sample_pyramid(features, pyr_output.level_shapes, threshold, depth, rng,
