@@ -297,7 +297,7 @@ def _memory(shape, width, height, params):
     tile, _, own, values = _analysed(shape, width, height, params)
     per_tile = 12 * c + (8 * (k * 4 / 3 + 6) if own else 0)
     joint = 16 * k * _kept(shape[0] * shape[1]) if params.get("joint") else 0
-    return (per_pixel * width * height + per_tile * tile + (4 * c + 8) * values + joint
+    return (per_pixel * width * height + per_tile * tile + (4 * c + 4) * values + joint
             + 64 * BINS)
 
 
