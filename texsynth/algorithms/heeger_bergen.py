@@ -287,7 +287,7 @@ def _memory(shape, width, height, params):
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
     The exemplar's share: a tile's principal components and periodic component (and, when the
     tile is not the output's size, its own pyramid's filters and spectra), every channel's kept
-    target values (sorted, and pooled while sorting), the fast matching's histogram tables
+    target values (sorted), the fast matching's histogram tables
     (``BINS`` each); tests/test_contract.py holds the estimate above the measured peak.
     """
     k, c = params["orientations"], shape[2]
@@ -297,7 +297,7 @@ def _memory(shape, width, height, params):
     tile, _, own, values = _analysed(shape, width, height, params)
     per_tile = 12 * c + (8 * (k * 4 / 3 + 6) if own else 0)
     joint = 16 * k * _kept(shape[0] * shape[1]) if params.get("joint") else 0
-    return (per_pixel * width * height + per_tile * tile + (4 * c + 4) * values + joint
+    return (per_pixel * width * height + per_tile * tile + 4 * c * values + joint
             + 64 * BINS)
 
 
