@@ -14,9 +14,10 @@ from texsynth.algorithms.de_bonet import (
     parent_structure,
     pyramid_features,
     sample_pyramid,
+    tiled_subset,
 )
 from texsynth.blocks.periodic import periodic_component
-from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
+from texsynth.blocks.pyramid import LaplacianPyramid
 from texsynth.metrics import seam_ratio
 from texsynth.progress import Progress
 
@@ -59,8 +60,7 @@ def coherent(request, monkeypatch):
 def test_threshold_zero_copies_only_identical_parent_structures(coherent):
     exemplar = _photo(size=64)
     pyramid = LaplacianPyramid((64, 64), 3)
-    features = pyramid_features(periodic_component(exemplar), SteerablePyramid((64, 64), 3, 4),
-                                pyramid)
+    features = pyramid_features(exemplar, pyramid, 4)
     sources = sample_pyramid(features, pyramid.level_shapes, 0.0, 2,
                              np.random.default_rng(3), Progress())
     flat = [f.reshape(-1, f.shape[2]) for f in features]
@@ -156,8 +156,7 @@ def test_coherent_candidates_continue_a_shifted_copy_of_the_exemplar():
 
 def test_parent_space_keeps_the_distances_of_parent_structures():
     exemplar = _photo(size=64)
-    features = pyramid_features(periodic_component(exemplar), SteerablePyramid((64, 64), 3, 4),
-                                LaplacianPyramid((64, 64), 3))
+    features = pyramid_features(exemplar, LaplacianPyramid((64, 64), 3), 4)
     flat = [f.reshape(-1, f.shape[2]) for f in features]
     scale = {1: 2.0, 2: 0.5}
     space = ParentSpace(features, 0, 2, scale, (64, 64), energy=1.0, max_dims=1000)
@@ -187,3 +186,36 @@ def test_too_small_an_exemplar_raises():
         texsynth.synthesize(np.zeros((12, 40, 3)), 32, 32, method="de_bonet")
 
 
+
+
+def test_large_levels_are_indexed_on_tiles_spread_over_the_whole_level():
+    assert tiled_subset((1000, 1000), 600_000) is None                  # under twice: all
+    kept = tiled_subset((1000, 1500), 100_000, tile=50)
+    assert 0.7 * 100_000 < len(kept) < 1.5 * 100_000
+    y, x = np.divmod(kept, 1500)
+    # whole tiles, every band of rows and columns of the level represented
+    assert len(np.unique(y // 50)) == 20 and len(np.unique(x // 50)) == 30
+    assert np.all(np.bincount((y // 50) * 30 + x // 50)[np.unique((y // 50) * 30 + x // 50)]
+                  == 2500)
+
+
+def test_a_sampler_on_a_subset_draws_indexed_points_or_given_candidates():
+    rng = np.random.default_rng(2)
+    points = rng.random((4000, 2))
+    indexed = np.arange(0, 4000, 4)
+    sampler = BallSampler(points, indexed=indexed)
+    sampler.radius = 0.05
+    drawn = sampler.draw(rng.random((500, 2)), rng)
+    assert np.all(drawn % 4 == 0)                           # the ball's members the tree holds
+    candidates = rng.integers(0, 4000, (500, 4))
+    queries = points[candidates[:, 0]]                      # the first candidate is inside
+    chosen = sampler.draw_among(queries, candidates, rng)
+    assert np.all((chosen[:, None] == candidates).any(axis=1))
+
+
+def test_an_exemplar_larger_than_the_output_still_tiles(monkeypatch):
+    # the output's coarsest level is a crop of the exemplar's; small levels go through tiles
+    monkeypatch.setattr(de_bonet_module, "TREE_POINTS", 2000)
+    exemplar = _photo(size=200)
+    out = texsynth.synthesize(exemplar, 72, 72, method="de_bonet", seed=1)
+    assert 0.8 < seam_ratio(out) < 1.25

@@ -1,6 +1,7 @@
 import numpy as np
 
-from texsynth.blocks.periodic import periodic_component
+from texsynth.blocks import fft
+from texsynth.blocks.periodic import periodic_component, periodic_spectrum
 from texsynth.metrics import seam_ratio
 
 from _images import ramp_photo
@@ -22,3 +23,12 @@ def test_smooth_component_is_harmonic_inside():
     laplacian = sum(np.roll(s, k, axis=a) for k in (1, -1) for a in (0, 1)) - 4 * s
     assert np.abs(laplacian[1:-1, 1:-1]).max() < 1e-4
     assert np.abs(laplacian[0]).max() > 0.1
+
+
+def test_the_periodic_spectrum_is_the_transform_of_the_periodic_component():
+    rng = np.random.default_rng(5)
+    for shape in [(31, 40), (64, 64), (65, 33)]:
+        u = (rng.random(shape) + np.linspace(0, 3, shape[1])[None]).astype(np.float32)
+        expected = fft.rfft2(periodic_component(u))
+        np.testing.assert_allclose(periodic_spectrum(u), expected,
+                                   atol=1e-6 * np.abs(expected).max())

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from texsynth.blocks import parallel
-from texsynth.blocks.pyramid import SteerablePyramid, max_scales
+from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid, max_scales
 
 
 @pytest.mark.parametrize("shape", [(64, 64), (37, 53), (200, 300), (128, 96)])
@@ -113,3 +113,18 @@ def test_analysis_into_earlier_arrays_with_a_hook_on_each_band():
     assert pyramid.synthesize(fresh, out=image) is image
     np.testing.assert_array_equal(image, pyramid.synthesize(fresh))
     assert np.abs(image - second).max() < 1e-5
+
+
+@pytest.mark.parametrize("shape", [(301, 403), (128, 96)])
+def test_a_pyramid_of_the_coarser_levels_gives_the_full_pyramids_bands(shape):
+    # De Bonet's oriented features from the Laplacian's G_1, without the full-size transform
+    image = np.random.default_rng(4).random(shape, dtype=np.float32)
+    full = SteerablePyramid(shape, 3, 4).analyze(image)
+    laplacian = LaplacianPyramid(shape, 3)
+    g1 = laplacian.synthesize(laplacian.analyze(image), 1)
+    below = SteerablePyramid(laplacian.level_shapes[1], 2, 4, full=shape).analyze(g1)
+    for j in (1, 2):
+        for ours, theirs in zip(below.bands[j - 1], full.bands[j], strict=True):
+            np.testing.assert_allclose(ours, theirs, atol=1e-5 * np.abs(theirs).max())
+    with pytest.raises(ValueError, match="not a pyramid level"):
+        SteerablePyramid((100, 100), 1, 4, full=shape)

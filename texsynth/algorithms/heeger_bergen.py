@@ -30,6 +30,13 @@ response and it does not.
 Deviations, one line each:
 - the exemplar's subband statistics come from its periodic component (Moisan 2011), so the
   border jump of a non-tiling photo adds no false cross-shaped energy to the bands;
+- a photo larger than the output is analysed in tiles of the output's size (the fewest that
+  cover it, evenly spread, each made periodic, analysed by the output's pyramid), each tile's
+  subbands counted on the part of the photo it owns (an equal partition): the statistics of the
+  whole photo at the output's pyramid cost, not the photo's;
+- each target (a channel's pixels, a subband) keeps a regular sample of at most about
+  ``SAMPLES`` values (every value up to a 1024^2 exemplar; ``histogram.sample_step``), and
+  the colour PCA is fitted on the pixels' sample;
 - pixel histograms come from the exemplar itself, so the output's values are the photo's;
 - the subband matching uses the O(N) cumulative-histogram path of ``texsynth.blocks.histogram``;
 - colour channels are the exemplar's PCA components, each iteration run on every component in
@@ -57,6 +64,7 @@ from ..blocks.histogram import (
     TargetHistogram,
     match,
     match_joint,
+    sample_step,
 )
 from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component
@@ -73,6 +81,9 @@ SLICES_PER_ITERATION = 2
 FINAL_SLICES = 30
 #: Rows turned back to the photo's colours at a time, on the cores, with progress between.
 BACK_ROWS = 256
+#: Values a target keeps (a channel's pixels, one subband): all of a 1024^2 exemplar's, a
+#: regular sample of a larger photo's (quantiles to about 1e-3 of a rank, finer than a bin).
+SAMPLES = 1 << 20
 
 
 def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations=4,
@@ -82,28 +93,35 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
     # Progress: the exemplar's analysis, the iterations, the final colour transport.
     setup, iterating = progress.span(0.0, 0.03), progress.span(0.03, 0.9 if channels > 1 else 1.0)
     depth = pyramid_depth(exemplar.shape, width, height, scales)
-    pca = ColorPCA.fit(exemplar)
-    components = pca.forward(exemplar)
-    periodic = periodic_component(components)
     setup(0.0, "analysing the exemplar")
-    pyr_exemplar = SteerablePyramid(exemplar.shape[:2], depth, orientations)
-    pyr_output = SteerablePyramid((height, width), depth, orientations, setup.span(0.0, 0.5))
+    h, w = exemplar.shape[:2]
+    sample = exemplar.reshape(-1, channels)[::sample_step(h * w, w, SAMPLES)]
+    pca = ColorPCA.fit(sample[None])
+    colours = pca.forward(sample)
+    pyr_output = SteerablePyramid((height, width), depth, orientations, setup.span(0.0, 0.3))
+    tile = (min(height, h), min(width, w))
+    pyr_exemplar = (pyr_output if tile == pyr_output.shape else
+                    SteerablePyramid(tile, depth, orientations))
+    exemplar_bands, pw = _subband_samples(exemplar, pca, pyr_exemplar, setup.span(0.3, 1.0))
+    if pyr_exemplar is not pyr_output:
+        pw = None
+    del pyr_exemplar, sample
     noise = rng.random((height, width, channels), dtype=np.float32)
 
     work = JointWork(width * height) if joint else None      # reused by every channel and level
     pixels, match_subbands = [], []
     for c in range(channels):
-        pixels.append(TargetHistogram(components[:, :, c]))
-        subbands = pyr_exemplar.analyze(periodic[:, :, c])
+        pixels.append(TargetHistogram(colours[:, c]))
+        subbands = exemplar_bands[c]
         match_subbands.append(_OrientedMatch(subbands, steered, bins, work) if steered or joint
                               else _BandMatch(subbands))
-        setup(0.5 + 0.5 * (c + 1) / channels, "analysing the exemplar")
+        exemplar_bands[c] = None                          # the targets keep their own copies
+        setup(1.0, "analysing the exemplar")
     image = np.empty((channels, height, width), np.float32)
     for c in range(channels):
         match(noise[:, :, c], pixels[c], out=image[c])
         iterating(0.0, "matching the noise's histogram")
-    colours = components.reshape(-1, channels)
-    pw, synthesized = None, np.empty((height, width), np.float32)    # reused every step
+    synthesized = np.empty((height, width), np.float32)               # reused every step
     for it in range(iterations):
         for c in range(channels):
             message = f"iteration {it + 1}/{iterations}, channel {c + 1}/{channels}"
@@ -134,6 +152,46 @@ def heeger_bergen(exemplar, width, height, rng, progress, scales=4, orientations
 
     run(back, range(0, height, BACK_ROWS), lambda: progress(1.0, "back to the photo's colours"))
     return result
+
+
+def _tiles(length: int, size: int) -> list[tuple[int, int, int]]:
+    """(start, own_start, own_stop) along one axis: the fewest tiles of ``size`` that cover
+    ``length``, evenly spread, tile i owning [i L / n, (i + 1) L / n) (inside it: L <= n size),
+    given from the tile's start."""
+    n = -(-length // size)
+    starts = [0] if n == 1 else [i * (length - size) // (n - 1) for i in range(n)]
+    bounds = [i * length // n for i in range(n + 1)]
+    return [(s, bounds[i] - s, bounds[i + 1] - s) for i, s in enumerate(starts)]
+
+
+def _subband_samples(exemplar, pca, pyramid, progress):
+    """Per PCA channel, the exemplar's subbands as :class:`Coefficients` of 1-D samples: the
+    tiles of ``pyramid``'s shape over the photo (:func:`_tiles`), each tile's principal
+    components made periodic and analysed, each band's owned part sampled on a regular lattice
+    (every value when the photo's band holds fewer than twice ``SAMPLES``). Also the last
+    analysis (its arrays are the pyramid's to reuse)."""
+    h, w, channels = exemplar.shape
+    tiles = [(rows, columns) for rows in _tiles(h, pyramid.shape[0])
+             for columns in _tiles(w, pyramid.shape[1])]
+    levels = [0, *(j for j in range(pyramid.scales) for _ in range(pyramid.orientations)),
+              pyramid.scales]                                 # of each band, arrays' order
+    steps = [sample_step(h * w >> 2 * j, w >> j, SAMPLES) for j in levels]
+    pooled = [[[] for _ in levels] for _ in range(channels)]
+    coefficients = None
+    for t, ((y, y0, y1), (x, x0, x1)) in enumerate(tiles):
+        components = pca.forward(exemplar[y:y + pyramid.shape[0], x:x + pyramid.shape[1]])
+        for c in range(channels):
+            coefficients = pyramid.analyze(periodic_component(components[:, :, c]),
+                                           out=coefficients)
+            for i, (band, j, k) in enumerate(zip(coefficients.arrays(), levels, steps,
+                                                 strict=True)):
+                a, b = -(-y0 >> j), -(-y1 >> j)                # ceil: sample i sits at 2^j i
+                owned = band[a:b, -(-x0 >> j):-(-x1 >> j)]
+                every = k if k == 1 else sample_step(k * SAMPLES, owned.shape[1], SAMPLES)
+                pooled[c][i].append(owned.ravel()[::every].copy())
+            progress((t * channels + c + 1) / (len(tiles) * channels), "analysing the exemplar")
+    return [coefficients.replaced([np.concatenate(p) for p in per_channel])
+            for per_channel in pooled], coefficients
 
 
 class _BandMatch:
@@ -203,40 +261,63 @@ class _OrientedMatch:
                             match(pw.lowpass, self.lowpass))
 
 
+def _kept(n: int) -> int:
+    """Values a target keeps of a band of ``n`` (every one, or about ``SAMPLES``)."""
+    return n if n < 2 * SAMPLES else n // (n // SAMPLES)
+
+
+def _analysed(shape, width, height, params):
+    """The exemplar's analysis: (tile pixels, tiles, whether the tile has a pyramid of its own,
+    the values one channel's targets keep: its pixels and every subband)."""
+    h, w = shape[:2]
+    k, depth = params["orientations"], pyramid_depth(shape, width, height, params["scales"])
+    tile = (min(height, h), min(width, w))
+    tiles = -(-h // tile[0]) * -(-w // tile[1])
+    bands = [h * w, h * w, *(h * w >> 2 * j for j in range(depth) for _ in range(k)),
+             h * w >> 2 * depth]
+    return tile[0] * tile[1], tiles, tile != (height, width), sum(_kept(n) for n in bands)
+
+
 def _memory(shape, width, height, params):
     """Output and noise (C floats), one channel's pyramid and spectra, 8 B per channel of
-    margin, the synthesis' subband spectra, every channel's exemplar targets; the pyramid's
-    kept work arrays and complex filters (tracemalloc: +30 B per output pixel at 1024^2 and
-    2048^2).
+    margin, the synthesis' subband spectra; the pyramid's kept work arrays and complex filters
+    (tracemalloc: +30 B per output pixel at 1024^2 and 2048^2).
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
-    The exemplar's share counts its periodic component, PCA and pyramid spectra (tracemalloc:
-    about 95 B a pixel at K = 4), and the fast matching's histogram tables (``BINS`` each);
-    tests/test_contract.py holds the estimate above the measured peak.
+    The exemplar's share: a tile's principal components and periodic component (and, when the
+    tile is not the output's size, its own pyramid's filters and spectra), every channel's kept
+    target values (sorted), the fast matching's histogram tables
+    (``BINS`` each); tests/test_contract.py holds the estimate above the measured peak.
     """
-    k = params["orientations"]
-    per_pixel = 24 * shape[2] + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
+    k, c = params["orientations"], shape[2]
+    per_pixel = 24 * c + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
     per_pixel += 32 + 30
     per_pixel += (105 if params.get("joint") else 0) + (30 if params.get("steered") else 0)
-    per_exemplar = 8 * (k * 4 / 3 + 6) + 36 * shape[2] + (16 * k if params.get("joint") else 0)
-    return per_pixel * width * height + per_exemplar * shape[0] * shape[1] + 64 * BINS
+    tile, _, own, values = _analysed(shape, width, height, params)
+    per_tile = 12 * c + (8 * (k * 4 / 3 + 6) if own else 0)
+    joint = 16 * k * _kept(shape[0] * shape[1]) if params.get("joint") else 0
+    return (per_pixel * width * height + per_tile * tile + 4 * c * values + joint
+            + 64 * BINS)
 
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``): per iteration, one analysis and
     synthesis of the output and the matching of its bands (output pixels x C x (K + 1)); once,
-    the exemplar's pyramids and sorted bands (exemplar pixels x C); each colour transport step's
-    sorted target projections and tables, a constant a step. Fitted on one quiet machine
-    (factor 0.29-0.32) at 512^2 to 4096^2 outputs: 1.6-1.9, 4.4 (5.1-5.4 from a 1024^2
-    exemplar), 13.5-15.0 and 53.5 s, all within 15 %. Steered and joint matching: factors 1.3
-    and 2, not fitted."""
-    h, w, c = shape
+    the exemplar's tiles made periodic and analysed (tile pixels x C), a tile's own pyramid,
+    the kept target values sorted; each colour transport step's sorted target projections and
+    tables, a constant a step. Fitted on one quiet machine (factor 0.29-0.32) at 512^2 to
+    4096^2 outputs: 1.6-1.9, 4.4 (5.1-5.4 from a 1024^2 exemplar), 13.5-15.0 and 53.5 s, all
+    within 15 %; the exemplar's share on the 12 MP photo. Steered and joint matching: factors
+    1.3 and 2, not fitted."""
+    c = shape[2]
     k, iterations = params["orientations"], params["iterations"]
     extra = (2.0 if params.get("joint") else 1.0) * (1.3 if params.get("steered") else 1.0)
     steps = FINAL_SLICES + SLICES_PER_ITERATION * (iterations - 1) if c > 1 else 0
-    return (0.02 + iterations * 4.5e-8 * width * height * c * (k + 1) * extra
-            + 1.0e-6 * h * w * c + 0.038 * steps)
+    tile, tiles, own, values = _analysed(shape, width, height, params)
+    exemplar = 1.6e-7 * tiles * tile * c + 5e-7 * tile * own + 1e-7 * values * c * extra
+    return (0.02 + iterations * 4.5e-8 * width * height * c * (k + 1) * extra + exemplar
+            + 0.038 * steps)
 
 
 METHOD = register(Method(

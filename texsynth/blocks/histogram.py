@@ -141,11 +141,11 @@ def _look_up(item):
     item[0].look_up(item[1])
 
 
-def sample_step(n: int, width: int) -> int:
+def sample_step(n: int, width: int, samples: int = SAMPLED) -> int:
     """Every how many values a source of ``n`` values in rows of ``width`` is counted: about
-    ``n / SAMPLED``, made prime to ``width`` so that the sample is a sheared lattice of the
-    image, not a set of columns (1: every value)."""
-    k = n // SAMPLED
+    ``n / samples``, made prime to ``width`` so that the sample is a sheared lattice of the
+    image, not a set of columns (1: every value, up to twice ``samples``)."""
+    k = n // samples
     if k < 2:
         return 1
     while math.gcd(k, width) != 1:

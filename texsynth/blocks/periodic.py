@@ -15,7 +15,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-__all__ = ["periodic_component", "boundary_image", "tile_preview"]
+from . import fft
+
+__all__ = ["periodic_component", "periodic_spectrum", "boundary_image", "tile_preview"]
 
 
 def boundary_image(u: np.ndarray) -> np.ndarray:
@@ -47,6 +49,32 @@ def periodic_component(u: np.ndarray) -> np.ndarray:
     s_hat = v_hat / denom
     s_hat[0, 0] = 0.0
     return (u - sfft.irfft2(s_hat, s=(m, n))).astype(np.float32)
+
+
+def periodic_spectrum(u: np.ndarray) -> np.ndarray:
+    """The real FFT (:func:`texsynth.blocks.fft.rfft2`, complex64) of the periodic component p
+    of a 2-D ``u``: u's transform minus s_hat (eq. 7), without transforming p back and forth.
+
+    v is zero but on the border, so v_hat is a sum of 1-D transforms: the row jump
+    d = u[-1] - u[0] on rows 0 and M-1 gives rfft(d)[r] (1 - e^(2 pi i q / M)), the column jump
+    likewise fft(d')[q] (1 - e^(2 pi i r / N)).
+    """
+    u = np.asarray(u, dtype=np.float32)
+    m, n = u.shape
+    spectrum = fft.rfft2(u)
+    rows = sfft.rfft(u[-1] - u[0]).astype(np.complex64)
+    columns = sfft.fft(u[:, -1] - u[:, 0]).astype(np.complex64)
+    q = (1 - np.exp(2j * np.pi * np.fft.fftfreq(m))).astype(np.complex64)[:, None]
+    r = (1 - np.exp(2j * np.pi * np.fft.rfftfreq(n))).astype(np.complex64)[None, :]
+    denom = (2 * np.cos(2 * np.pi * np.fft.fftfreq(m)).astype(np.float32)[:, None]
+             + 2 * np.cos(2 * np.pi * np.fft.rfftfreq(n)).astype(np.float32)[None, :] - 4)
+    denom[0, 0] = 1.0
+    s_hat = rows[None, :] * q
+    s_hat += columns[:, None] * r
+    s_hat /= denom
+    s_hat[0, 0] = 0.0
+    spectrum -= s_hat
+    return spectrum
 
 
 def tile_preview(image: np.ndarray, nx: int = 2, ny: int = 2) -> np.ndarray:

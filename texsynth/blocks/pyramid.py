@@ -158,10 +158,15 @@ class SteerablePyramid:
 
     Masks and cropping indices are computed once here and reused at every iteration;
     ``progress`` (a ``texsynth.progress.Progress``), if given, hears of each level's masks.
+    With ``full`` (a larger shape, ``shape`` one of its pyramid's level shapes), the pyramid is
+    that of the levels of ``full``'s pyramid from ``shape``'s down: radii are measured on
+    ``full``'s grid, so analysing its low-passed level (the Laplacian pyramid's G_j) gives
+    ``full``'s bands of levels j.. (its high-pass mask is 0 there, the low-pass 1) without
+    transforming the full-size image.
     """
 
     def __init__(self, shape: tuple[int, int], scales: int = 4, orientations: int = 4,
-                 progress=None):
+                 progress=None, full: tuple[int, int] | None = None):
         if not 1 <= orientations <= 16:
             raise ValueError(f"orientations must be 1..16, got {orientations}")
         _check_scales(shape, scales)
@@ -169,7 +174,13 @@ class SteerablePyramid:
         self.scales = scales
         self.orientations = orientations
         self.phase = (-1j) ** (orientations - 1)
-        self.hi0, self.lo0 = _masks_by_rows(self.shape, self.shape, 2,
+        full = tuple(full or shape)
+        grid, octave = full, 0                                  # halvings from full to shape
+        while grid != self.shape and min(grid) > 1:
+            grid, octave = ((grid[0] + 1) // 2, (grid[1] + 1) // 2), octave + 1
+        if grid != self.shape:
+            raise ValueError(f"{self.shape} is not a pyramid level of {full}")
+        self.hi0, self.lo0 = _masks_by_rows(self.shape, full, 2,
                                             lambda radius, fx, fy: _radial_masks(radius, 1.0))
         self.level_shapes = [self.shape]
         self.band_filters: list[list[np.ndarray]] = []          # B_m of eq. 1, complex64
@@ -177,11 +188,11 @@ class SteerablePyramid:
         for j in range(scales):
             shape_j = self.level_shapes[-1]
 
-            def fill(radius, fx, fy, top=2.0 ** -(j + 1)):
+            def fill(radius, fx, fy, top=2.0 ** -(j + 1 + octave)):
                 high, low = _radial_masks(radius, top)
                 return [*_band_filters(radius, fx, fy, high, orientations), low]
 
-            *filters, low = _masks_by_rows(shape_j, self.shape, orientations + 1, fill)
+            *filters, low = _masks_by_rows(shape_j, full, orientations + 1, fill)
             # B_m with its phase, complex64: one product a band (phase * F is exact)
             self.band_filters.append([(f * np.complex64(self.phase)).astype(np.complex64)
                                       for f in filters])
@@ -386,8 +397,8 @@ class LaplacianPyramid:
         self.crop_rows: list[np.ndarray] = []
         for j in range(scales):
             parent = self.level_shapes[-1]
-            radius, _, _ = _grid(parent, self.shape)
-            self.low_masks.append(_radial_masks(radius, 2.0 ** -(j + 1))[1].astype(np.float32))
+            self.low_masks += _masks_by_rows(parent, self.shape, 1, lambda radius, fx, fy, j=j:
+                                             _radial_masks(radius, 2.0 ** -(j + 1))[1:])
             child = ((parent[0] + 1) // 2, (parent[1] + 1) // 2)
             ky = np.round(np.fft.fftfreq(child[0]) * child[0]).astype(np.int64)
             self.crop_rows.append(np.where(ky >= 0, ky, parent[0] + ky))
@@ -397,12 +408,16 @@ class LaplacianPyramid:
         parent, child = self.level_shapes[j], self.level_shapes[j + 1]
         return np.float32(child[0] * child[1] / (parent[0] * parent[1]))
 
-    def analyze(self, image: np.ndarray) -> list[np.ndarray]:
-        """``[P_0, .., P_{S-1}, G_S]`` of a 2-D float image of this pyramid's shape (float32)."""
-        image = np.asarray(image, dtype=np.float32)
-        if image.shape != self.shape:
-            raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
-        spectrum = fft.rfft2(image)
+    def analyze(self, image: np.ndarray, spectrum: np.ndarray | None = None
+                ) -> list[np.ndarray]:
+        """``[P_0, .., P_{S-1}, G_S]`` of a 2-D float image of this pyramid's shape (float32);
+        ``spectrum``, if given, is the image's :func:`~texsynth.blocks.fft.rfft2` (then
+        ``image`` may be None)."""
+        if spectrum is None:
+            image = np.asarray(image, dtype=np.float32)
+            if image.shape != self.shape:
+                raise ValueError(f"pyramid built for {self.shape}, image is {image.shape}")
+            spectrum = fft.rfft2(image)
         levels = []
         for j in range(self.scales):
             low = spectrum * self.low_masks[j]
@@ -412,14 +427,16 @@ class LaplacianPyramid:
         levels.append(fft.irfft2(spectrum, self.level_shapes[self.scales]))
         return levels
 
-    def synthesize(self, levels: list[np.ndarray]) -> np.ndarray:
-        """Algorithm 11.2: from the coarsest level, upsample and add each finer level."""
+    def synthesize(self, levels: list[np.ndarray], level: int = 0) -> np.ndarray:
+        """Algorithm 11.2: from the coarsest level, upsample and add each finer level, down to
+        ``G_level`` (``levels`` from ``P_level`` on, or all of them)."""
+        levels = levels[len(levels) - (self.scales + 1 - level):]
         spectrum = fft.rfft2(levels[-1])
-        for j in reversed(range(self.scales)):
+        for j in reversed(range(level, self.scales)):
             parent, child = self.level_shapes[j], self.level_shapes[j + 1]
             up = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
             up[self.crop_rows[j], : child[1] // 2 + 1] = spectrum / self._ratio(j)
-            spectrum = up + fft.rfft2(levels[j])
-        return fft.irfft2(spectrum, self.shape)
+            spectrum = up + fft.rfft2(levels[j - level])
+        return fft.irfft2(spectrum, self.level_shapes[level])
 
 
