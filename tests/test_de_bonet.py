@@ -213,6 +213,17 @@ def test_a_sampler_on_a_subset_draws_indexed_points_or_given_candidates():
     assert np.all((chosen[:, None] == candidates).any(axis=1))
 
 
+def test_a_copy_of_a_larger_coarsest_level_starts_where_its_continuation_fits():
+    # Rows of a smooth cycle: a copy of n rows wraps without a jump only from a few first rows
+    # (those whose row o + n is near row o); a first row drawn at random would jump.
+    h, n = 40, 25
+    f = np.cos(2 * np.pi * np.arange(h) / h)[:, None, None] * np.ones((1, 3, 2))
+    gap = ((f[(np.arange(h) + n) % h] - f) ** 2).sum(axis=(1, 2))
+    best = set(np.argsort(gap, kind="stable")[:h // 10].tolist())
+    chosen = {de_bonet_module._offset(f, n, np.random.default_rng(seed)) for seed in range(20)}
+    assert chosen <= best and len(chosen) > 1
+
+
 def test_an_exemplar_larger_than_the_output_still_tiles(monkeypatch):
     # the output's coarsest level is a crop of the exemplar's; small levels go through tiles
     monkeypatch.setattr(de_bonet_module, "TREE_POINTS", 2000)
