@@ -323,10 +323,11 @@ def _work(lay: _Layout) -> tuple[int, float, float, float]:
 def _cost(lay: _Layout, c: int) -> float:
     """Seconds on the reference machine: the searches' FFTs and the cuts' steps (:func:`_work`;
     fitted on 512^2 to 4000 x 3000 photos with default and narrow bands, the refinement's share
-    from a profile at 4000 x 3000, where it is about 40 %); the photo-sized copies are a small
-    part."""
+    from a profile at 4000 x 3000, where it is about 40 %; then all 1.25 times that, from the
+    photos benchmark's quiet runs: 2048^2 1.7 s, 12 MP 4.5 s); the photo-sized copies are a
+    small part."""
     _, coarse, refine, steps = _work(lay)
-    return 0.023 + (4.2e-8 * coarse + 2.5e-8 * refine) * (c + 2) + 1.1e-4 * steps
+    return 0.029 + (5.2e-8 * coarse + 3.1e-8 * refine) * (c + 2) + 1.4e-4 * steps
 
 
 def _memory(lay: _Layout, c: int) -> float:

@@ -142,23 +142,15 @@ def label(key: str) -> str:
 def _child(kind: str, key: str, extra: list[str], out: str) -> None:
     """One run in this process: its output, wall time, peak memory and the predictions."""
     import texsynth
-    from texsynth import budget, tileable
 
     image = photo(key)
     figures = {"base": jobs.reset_peak()}  # interpreter, imports and the photo
     if kind == "synth":
         name, side = extra[0], int(extra[1])
-        method = texsynth.get_method(name)
-        values = method.resolve({})
-        figures |= {"predicted_s": budget.predict(method, image.shape, side, side, values),
-                    "predicted_bytes": float(method.memory(image.shape, side, side, values))}
 
         def work():
             return texsynth.synthesize(image, side, side, method=name, seed=SEED)
     elif kind == "tileable":
-        seconds, peak = tileable.predict(image.shape)
-        figures |= {"predicted_s": seconds, "predicted_bytes": peak}
-
         def work():
             return texsynth.make_tileable(image, seed=SEED)
     elif kind == "resynth":
@@ -182,7 +174,25 @@ def _job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
          timeout: float | None = None) -> dict:
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
-    return jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
+    return jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env) \
+        | _predicted(kind, photo(key).shape, extra)
+
+
+def _predicted(kind: str, shape: tuple, extra: tuple) -> dict:
+    """The library's predictions for a run (its cost and memory models, this machine's factor
+    measured in this process): pure model calls, so a record kept from a run of the same
+    synthesis code is read with the models as they are now."""
+    from texsynth import budget, get_method, tileable
+
+    if kind == "tileable":
+        seconds, peak = tileable.predict(shape)
+        return {"predicted_s": seconds, "predicted_bytes": peak}
+    if kind != "synth":
+        return {}
+    method, side = get_method(extra[0]), int(extra[1])
+    values = method.resolve({})
+    return {"predicted_s": budget.predict(method, shape, side, side, values),
+            "predicted_bytes": float(method.memory(shape, side, side, values))}
 
 
 class Goals:
@@ -278,9 +288,10 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "its time from the 12 MP photo over that from the crop (goal: at most "
         f"{CAMERA_OVER_CROP}); peak RSS: the run's process's peak resident memory (VmHWM: "
         "interpreter, imports and the photo included; goal: at most 4 GiB); predicted: "
-        "`texsynth.budget.predict` and `method.memory(...)` in the same process just before the "
-        "run, beside their ratio to the measured time and to the growth of resident memory "
-        "over the call (goal: within 1.5x either way). Seam: seam ratio; gradient: the "
+        "`texsynth.budget.predict` and `method.memory(...)` (model calls in the benchmark's own "
+        "process, this machine's factor measured there), beside their ratio to the measured "
+        "time and to the growth of resident memory over the call (goal: within 1.5x either "
+        "way). Seam: seam ratio; gradient: the "
         "output's mean gradient over the photo's (metrics.gradient_ratio); both two-sided, "
         "goal between 0.9 and 1.1 (under it a soft wrap or a blurred output, over it a step or "
         "a noisier output). A refused run shows the library's message.",

@@ -311,8 +311,9 @@ def _cost(shape, width, height, params):
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
     its own coefficient, 1.35 times that for windows); the table of every table level;
     the passes over the whole exemplar (centring, windows, the random start's draw). Fitted on
-    64 px exemplars to 64-192 px outputs and, for the refining levels, on the 1024 px photos to
-    2048 and 4096 (production section) and the 12 MP photo to 2048."""
+    64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
+    the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
+    18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
     per_visit = k * (c + 1)
@@ -324,8 +325,8 @@ def _cost(shape, width, height, params):
                              * (1.35 if lv in windows else 1.0))
         else:
             units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
-    return (0.1 + 5.1e-9 * units + 1.05e-9 * refine_units
-            + 6.0e-9 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
+    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units
+            + 1.7e-8 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
 
 
 METHOD = register(Method(
