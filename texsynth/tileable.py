@@ -304,30 +304,26 @@ def predict(shape, band: int | None = None) -> tuple[float, float]:
     return _cost(lay, c) * budget.machine_factor(), _memory(lay, c)
 
 
-def _work(lay: _Layout) -> tuple[int, float, float, float]:
-    """Patches, and the elements their searches transform (per channel plus two: the mask
-    and the squares): on the block means, and in the ``CANDIDATES`` refinement windows; and
-    the steps of the cuts' dynamic programmes (a Python step each)."""
+def _work(lay: _Layout) -> tuple[float, float]:
+    """The elements the patches' searches transform (per channel plus two: the mask and the
+    squares): on the block means, and in the ``CANDIDATES`` refinement windows."""
     f, e = lay.f, lay.e
-    patches = coarse = refine = steps = 0.0
+    patches = refine = 0.0
     for length in (lay.h, lay.w):
         n = len(lay.starts(length)) - 1
         ph, pw = lay.m + lay.top + lay.d, length / n + lay.overlap
         patches += 2 * n
         refine += 2 * n * CANDIDATES * (ph + 2 * f) * (pw + 2 * f)
-        steps += 2 * n * ph + 6 * length
-    coarse = patches * ((lay.h - 2 * e) // f) * ((lay.w - 2 * e) // f)
-    return int(patches), coarse, refine, steps
+    return patches * ((lay.h - 2 * e) // f) * ((lay.w - 2 * e) // f), refine
 
 
 def _cost(lay: _Layout, c: int) -> float:
-    """Seconds on the reference machine: the searches' FFTs and the cuts' steps (:func:`_work`;
-    fitted on 512^2 to 4000 x 3000 photos with default and narrow bands, the refinement's share
-    from a profile at 4000 x 3000, where it is about 40 %; then all 1.25 times that, from the
-    photos benchmark's quiet runs: 2048^2 1.7 s, 12 MP 4.5 s); the photo-sized copies are a
-    small part."""
-    _, coarse, refine, steps = _work(lay)
-    return 0.029 + (5.2e-8 * coarse + 3.1e-8 * refine) * (c + 2) + 1.4e-4 * steps
+    """Seconds on the reference machine: the searches' FFTs (:func:`_work`), fitted by
+    non-negative least squares on quiet runs of 1024^2 photos with bands of 48, 128 and 256,
+    2048^2 and 4000 x 3000 with 150 and 375 (within 0.82-1.27 of each); the cuts' dynamic
+    programmes and the photo-sized copies took no measurable share beside them."""
+    coarse, refine = _work(lay)
+    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2)
 
 
 def _memory(lay: _Layout, c: int) -> float:
