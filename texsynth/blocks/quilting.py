@@ -48,7 +48,7 @@ class Search:
     >>> source = rng.random((40, 50, 3))
     >>> search = Search(source)
     >>> ssd = search.ssd(source[7:17, 20:32], np.ones((10, 12)))
-    >>> ssd.shape, np.unravel_index(ssd.argmin(), ssd.shape)
+    >>> ssd.shape, tuple(int(i) for i in np.unravel_index(ssd.argmin(), ssd.shape))
     ((31, 39), (7, 20))
     """
 
