@@ -320,8 +320,9 @@ def demo() -> None:
 
 def test() -> None:
     """What CI runs: build (the tests install the zip), ruff, pytest in Blender 5.0, then the
-    other Blenders and Python 3.13 of test-compat (their venvs are made once: on a fresh clone
-    the bpy downloads add minutes, see docs/ARCHITECTURE.md's "Blender versions")."""
+    other Blenders and Python 3.13 of test-compat. Their venvs are made once per clone; Blender
+    5.3 adds about 4.5 minutes to a fresh clone's run (its venv 2.2, its tests 1.7-2.4, on this
+    2-core machine under load) and 1.8 minutes once its venv exists."""
     build()
     _run(sys.executable, "-m", "ruff", "check", REPO)
     _run(sys.executable, "-m", "pytest", "-q", REPO / "tests", cwd=REPO)
