@@ -2,14 +2,14 @@
 scipy or OpenEXR the extension gets cannot be used (another extension's, or a broken one)."""
 
 import contextlib
-import operator
-import re
 import sys
 import types
 from pathlib import Path
 
 import bpy
 import pytest
+
+import addon_build
 
 
 def _site_packages() -> Path:
@@ -31,14 +31,6 @@ def test_blender_installed_the_wheels_built_for_this_python(addon):
     assert addon.dependencies.problem() is None
 
 
-def _release(version: str) -> tuple[int, ...]:
-    """'2.3.4' -> (2, 3, 4); a pre-release or local part is dropped."""
-    return tuple(int(n) for n in re.match(r"\d+(?:\.\d+)*", version)[0].split("."))
-
-
-_COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
-
-
 def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
     # SciPy warns at import when numpy is outside the range its release supports, which its
     # wheel declares (scipy 1.15: numpy >= 1.23.5, < 2.5; bpy 5.3 accepts numpy < 3).
@@ -46,15 +38,10 @@ def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
     import scipy
 
     (info,) = Path(scipy.__file__).parents[1].glob("scipy-*.dist-info")
-    (spec,) = [match[1] for line in (info / "METADATA").read_text().splitlines()
-               if (match := re.fullmatch(r"Requires-Dist: numpy\s*([^;a-z]*)", line))]
-    bounds = re.findall(r"([<>]=?)\s*([\d.]+)", spec)
-    assert bounds, spec
-    fits = all(_COMPARE[op](_release(numpy.__version__), _release(bound))
-               for op, bound in bounds)
-    assert fits, (f"{info.name} supports numpy {spec}; this Blender has numpy "
-                  f"{numpy.__version__}: pick the bundled scipy for this Python "
-                  "(dependencies.BUNDLED) that supports it")
+    spec = addon_build.requirement((info / "METADATA").read_text(), "numpy")
+    assert addon_build.satisfies(numpy.__version__, spec), (
+        f"{info.name} supports numpy {spec}; this Blender has numpy {numpy.__version__}: "
+        "bundle a scipy for this Python that supports it (dependencies.BUNDLED)")
 
 
 class _Layout:
