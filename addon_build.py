@@ -185,15 +185,15 @@ def serves(wheel_python: str, python: str) -> bool:
     return wheel_python in (python, PURE)
 
 
-def requirement(metadata: str, package: str) -> str:
+def requirement(metadata: str, package: str) -> str | None:
     """The version comparisons (``'<2.5,>=1.23.5'``) with which a wheel's METADATA text requires
-    ``package`` (unconditionally: not for an extra)."""
+    ``package`` (unconditionally: not for an extra), or None when it does not."""
     found = [match[1] for line in metadata.splitlines()
              if (match := re.fullmatch(rf"Requires-Dist: {re.escape(package)}\s*([^;a-z]*)",
                                        line, flags=re.IGNORECASE))]
-    if len(found) != 1:
+    if len(found) > 1:
         raise LookupError(f"{len(found)} unconditional requirements of {package}")
-    return found[0].strip()
+    return found[0].strip() if found else None
 
 
 def satisfies(version: str, comparisons: str) -> bool:

@@ -39,6 +39,7 @@ def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
 
     (info,) = Path(scipy.__file__).parents[1].glob("scipy-*.dist-info")
     spec = addon_build.requirement((info / "METADATA").read_text(), "numpy")
+    assert spec, f"{info.name} declares no numpy requirement"
     assert addon_build.satisfies(numpy.__version__, spec), (
         f"{info.name} supports numpy {spec}; this Blender has numpy {numpy.__version__}: "
         "bundle a scipy for this Python that supports it (dependencies.BUNDLED)")
