@@ -23,7 +23,11 @@ import bpy
 #: The Python 3.11 release must be the highest: Blender 4.2.0 ignores the Python tag and
 #: installs, of one package, the highest version (on a tie, the name sorting last: cp313), so
 #: the Python 3.13 wheels are the previous patch release. scipy 1.15 is the last release that
-#: supports Blender 4.2's numpy 1.24 (1.16 needs numpy >= 1.25.2) and Blender 5.1's numpy 2.
+#: supports Blender 4.2's numpy 1.24 (1.16 needs numpy >= 1.25.2); it supports numpy >= 1.23.5,
+#: < 2.5, which holds the numpy of every Blender from 4.2 on (4.5 and 5.1: 1.26; 5.2 and 5.3:
+#: 2.3.4). The bpy module 5.2+ accepts numpy < 3: with numpy 2.5 or later SciPy warns at import.
+#: A cp313 scipy for that (1.17: numpy >= 1.26.4, < 2.7) must wait until blender_version_min is
+#: past 4.2.0, whose Python-blind pick would install it into Python 3.11.
 #: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
 #: serves every Python and platform.
 BUNDLED = {

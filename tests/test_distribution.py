@@ -11,6 +11,7 @@ import subprocess
 import sys
 import tomllib
 import zipfile
+from pathlib import Path
 
 import pytest
 
@@ -128,3 +129,39 @@ def test_blender_4_2_0_which_ignores_python_tags_still_picks_the_python_3_11_whe
         kept = [w for w in wheels if w not in skip([("texsynth", wheels)])]
         assert sorted(re.search(r"-(cp3\d+|py3)-", w)[1] for w in kept) == \
             ["cp311", "cp311", "py3"], (platform, kept)
+
+
+def test_the_bundled_wheels_support_the_numpy_of_every_blender_the_tests_run_in(zips):
+    # SciPy warns at import when numpy is outside the range its wheel declares; each Blender of
+    # addon_build.COMPAT_BPY is tested with the numpy it ships.
+    _, manifest = zips["linux-x64"]
+    checked = []
+    for bpy_version, (python, numpy_version) in addon_build.COMPAT_BPY.items():
+        for wheel in manifest["wheels"]:
+            if not addon_build.serves(addon_build.wheel_key(Path(wheel).name)[2], python):
+                continue
+            with zipfile.ZipFile(addon_build.REPO / wheel) as archive:
+                (metadata,) = [n for n in archive.namelist()
+                               if n.endswith(".dist-info/METADATA")]
+                text = archive.read(metadata).decode()
+            spec = addon_build.requirement(text, "numpy")
+            if spec is not None:
+                assert addon_build.satisfies(numpy_version, spec), (bpy_version, wheel, spec)
+                checked.append(Path(wheel).name.split("-")[0])
+    assert sorted(set(checked)) == ["openexr", "scipy"]
+
+
+def test_version_comparisons_read_as_pip_reads_them():
+    assert addon_build.requirement("Requires-Dist: numpy<2.5,>=1.23.5\n"
+                                   'Requires-Dist: numpydoc; extra == "doc"', "numpy") \
+        == "<2.5,>=1.23.5"
+    assert addon_build.requirement('Requires-Dist: numpydoc; extra == "doc"', "numpy") is None
+    assert addon_build.satisfies("2.3.4", "<2.5,>=1.23.5")
+    assert addon_build.satisfies("1.23.5", "<2.5,>=1.23.5")
+    assert not addon_build.satisfies("2.5.5", "<2.5,>=1.23.5")
+    assert not addon_build.satisfies("2.5.0", "<2.5,>=1.23.5")
+    assert not addon_build.satisfies("1.23.4", "<2.5,>=1.23.5")
+    assert addon_build.satisfies("2.10.0", ">=2.9")
+    assert not addon_build.satisfies("2.5", "<2.5.0") and addon_build.satisfies("2.5", "<=2.5.0")
+    with pytest.raises(ValueError, match="no comparisons"):
+        addon_build.satisfies("2.3.4", "")

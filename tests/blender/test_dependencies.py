@@ -9,6 +9,8 @@ from pathlib import Path
 import bpy
 import pytest
 
+import addon_build
+
 
 def _site_packages() -> Path:
     return Path(bpy.utils.user_resource("EXTENSIONS"), ".local", "lib",
@@ -27,6 +29,20 @@ def test_blender_installed_the_wheels_built_for_this_python(addon):
                             or t == "py3-none-any" for t in tags), tags
         assert sys.modules[package].__version__ == releases[python]
     assert addon.dependencies.problem() is None
+
+
+def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
+    # SciPy warns at import when numpy is outside the range its release supports, which its
+    # wheel declares (scipy 1.15: numpy >= 1.23.5, < 2.5; bpy 5.3 accepts numpy < 3).
+    import numpy
+    import scipy
+
+    (info,) = Path(scipy.__file__).parents[1].glob("scipy-*.dist-info")
+    spec = addon_build.requirement((info / "METADATA").read_text(), "numpy")
+    assert spec, f"{info.name} declares no numpy requirement"
+    assert addon_build.satisfies(numpy.__version__, spec), (
+        f"{info.name} supports numpy {spec}; this Blender has numpy {numpy.__version__}: "
+        "bundle a scipy for this Python that supports it (dependencies.BUNDLED)")
 
 
 class _Layout:
