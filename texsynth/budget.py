@@ -7,8 +7,9 @@ patch searches' matrix products, the pyramids' FFTs, the relaxations' gathers) a
 to seconds with coefficients fitted to measured runs (``python -m benchmarks.cost_models``
 prints predictions against measurements); a prediction is good to about a factor of two.
 This machine's speed relative to the reference is measured once per process by a tiny
-calibration run (:func:`machine_factor`, about 0.1 s: the matrix products, FFTs and gathers the
-methods spend their time in), so a prediction is ``cost * machine_factor()``.
+calibration run (:func:`machine_factor`, about 0.1 s: the FFTs, gathers, counts and sorts the
+methods spend their time in, on one thread and without BLAS so that the reading does not depend
+on what ran before in the process), so a prediction is ``cost * machine_factor()``.
 
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
@@ -19,8 +20,10 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
 
 import numpy as np
+import scipy.fft as sfft
 
 from . import validation
 from .registry import methods
@@ -30,9 +33,12 @@ __all__ = ["time_budget", "machine_factor", "predict", "check_time", "check_meth
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
-#: Seconds the calibration workload took on the reference machine (where the cost models were
-#: fitted: 2 shared cores, numpy 1.26), the fastest of three runs.
-REFERENCE_SECONDS = 0.027
+#: Seconds a run of the calibration workload takes on the reference machine, the fastest of
+#: :data:`RUNS`: set so that the machine where the cost models were fitted (2 shared cores,
+#: numpy 1.26; 2.1 ms a run) keeps reading 0.34, as fresh processes read its earlier workload.
+REFERENCE_SECONDS = 0.0062
+#: Runs of the calibration workload (a few ms each) after the warm-up.
+RUNS = 15
 
 _factor: float | None = None
 
@@ -51,29 +57,46 @@ def time_budget() -> float:
     return budget
 
 
-def _workload() -> float:
-    """Seconds of a fixed mix of the methods' kernels: a float32 matrix product (the patch
-    searches), real FFTs (the pyramids) and a gather with a bincount (the relaxations)."""
+def _workload() -> Callable[[], float]:
+    """A run of a fixed mix of the methods' kernels that returns its seconds: real FFTs there and
+    back (the pyramids), a gather, a bincount and a sort (the tables and relaxations).
+
+    It touches neither BLAS nor fresh pages, on one thread: OpenBLAS' threads left spinning by
+    earlier work took the core a matrix product wanted (a 1.5x slower reading after the
+    metrics), and fresh arrays of MBs cost page faults that depend on the allocator's state
+    (glibc's mmap threshold rises after a large free; Blender brings its own allocator), which
+    read 0.2 inside Blender and 0.34 in a fresh Python. Every array is kept or under 128 KiB."""
     rng = np.random.default_rng(0)
-    a = rng.random((256, 384), dtype=np.float32)
-    b = rng.random((384, 256), dtype=np.float32)
-    image = rng.random((256, 256), dtype=np.float32)
-    index = rng.integers(0, 1 << 16, 1 << 18)
-    start = time.perf_counter()
-    for _ in range(2):
-        a @ b
-        np.fft.irfft2(np.fft.rfft2(image))
-        np.bincount(image.ravel()[index % image.size].astype(np.int64) + index % 7)
-    return time.perf_counter() - start
+    image = rng.random((128, 128), dtype=np.float32)
+    index = rng.integers(0, image.size, 1 << 14)
+    gathered = np.empty(index.size, np.float32)
+    bins = np.empty(index.size, np.intp)
+    ordered = np.empty(index.size, np.float32)
+
+    def run() -> float:
+        start = time.perf_counter()
+        for _ in range(4):
+            sfft.irfft2(sfft.rfft2(image, workers=1), image.shape, workers=1)
+            np.take(image.ravel(), index, out=gathered)
+            np.multiply(gathered, 255.0, out=gathered)
+            np.copyto(bins, gathered, casting="unsafe")
+            np.bincount(bins, minlength=256)
+            np.copyto(ordered, gathered)
+            ordered.sort()
+        return time.perf_counter() - start
+
+    return run
 
 
 def machine_factor() -> float:
-    """This machine's time for the calibration workload over the reference machine's (the
-    fastest of three runs, measured once per process; clipped to 0.1 .. 100)."""
+    """This machine's time for the calibration workload over the reference machine's: the
+    fastest of :data:`RUNS` runs after a warm-up (the slower ones lost time slices to other
+    processes), measured once per process and clipped to 0.1 .. 100."""
     global _factor
     if _factor is None:
-        measured = min(_workload() for _ in range(3))
-        _factor = float(np.clip(measured / REFERENCE_SECONDS, 0.1, 100.0))
+        run = _workload()
+        run()
+        _factor = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
     return _factor
 
 

@@ -28,11 +28,8 @@ licence.
 from __future__ import annotations
 
 import csv
-import functools
 import re
 import shutil
-import statistics
-import subprocess
 import sys
 import time
 from dataclasses import dataclass
@@ -181,32 +178,20 @@ def _job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
         | _predicted(kind, photo(key).shape, extra)
 
 
-@functools.cache
-def _fresh_factor() -> float:
-    """``budget.machine_factor()`` as a fresh process reads it, like the runs' own processes
-    (the median of three): this process's reading is skewed by the BLAS threads its metrics
-    leave spinning (1.5x here)."""
-    code = "from texsynth import budget; print(budget.machine_factor())"
-    return statistics.median(
-        float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                             cwd=REPO, check=True).stdout) for _ in range(3))
-
-
 def _predicted(kind: str, shape: tuple, extra: tuple) -> dict:
-    """The library's predictions for a run (its cost and memory models at this machine's speed
-    as a fresh process measures it): pure model calls, so a record kept from a run of the same
-    synthesis code is read with the models as they are now."""
+    """The library's predictions for a run (its cost and memory models at this machine's
+    speed): pure model calls, so a record kept from a run of the same synthesis code is read
+    with the models as they are now."""
     from texsynth import budget, get_method, tileable
 
-    scale = _fresh_factor() / budget.machine_factor()
     if kind == "tileable":
         seconds, peak = tileable.predict(shape)
-        return {"predicted_s": seconds * scale, "predicted_bytes": peak}
+        return {"predicted_s": seconds, "predicted_bytes": peak}
     if kind != "synth":
         return {}
     method, side = get_method(extra[0]), int(extra[1])
     values = method.resolve({})
-    return {"predicted_s": budget.predict(method, shape, side, side, values) * scale,
+    return {"predicted_s": budget.predict(method, shape, side, side, values),
             "predicted_bytes": float(method.memory(shape, side, side, values))}
 
 
@@ -305,8 +290,8 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "its time from the 12 MP photo over that from the crop (goal: at most "
         f"{CAMERA_OVER_CROP}); peak RSS: the run's process's peak resident memory (VmHWM: "
         "interpreter, imports and the photo included; goal: at most 4 GiB); predicted: "
-        "`texsynth.budget.predict` and `method.memory(...)` (model calls; this machine's "
-        "speed as fresh processes measure it, the median of three), beside their ratio to the "
+        "`texsynth.budget.predict` and `method.memory(...)` (model calls at this machine's "
+        "speed, `budget.machine_factor()`), beside their ratio to the "
         "measured time and to the growth of resident memory over the call (goal: within 1.5x "
         "either way). Seam: seam ratio; gradient: the "
         "output's mean gradient over the photo's (metrics.gradient_ratio); both two-sided, "

@@ -279,9 +279,12 @@ def _analysed(shape, width, height, params):
 
 
 def _memory(shape, width, height, params):
-    """Output and noise (C floats), one channel's pyramid and spectra, 8 B per channel of
-    margin, the synthesis' subband spectra; the pyramid's kept work arrays and complex filters
-    (tracemalloc: +30 B per output pixel at 1024^2 and 2048^2).
+    """Per output pixel: the noise, the working image and the result (C floats each), one
+    channel's pyramid, the synthesis' subband spectra (116 B at C = 3, K = 4; tracemalloc's
+    peak at 1024^2 from a 1024^2 crop, and at 2048^2 from the crop and from the 12 MP photo:
+    269, 659 and 761 MiB, this estimate 1.11-1.13 times them; with 86 B more of spectra and
+    margin it was 1.23-1.56 times). Per pixel of the exemplar's sample: the sample and its
+    principal components while the targets are made (56 B, the same fit).
 
     Steering and joint matching add their level-0 work arrays (tracemalloc at 1024^2 output:
     +37 B per output pixel steered, +102 joint, +130 both) and joint the exemplar's cell tables.
@@ -291,14 +294,14 @@ def _memory(shape, width, height, params):
     (``BINS`` each); tests/test_contract.py holds the estimate above the measured peak.
     """
     k, c = params["orientations"], shape[2]
-    per_pixel = 24 * c + 4 * (k * 4 / 3 + 3) + 8 * 3 + 4 * k * 2 / 3
-    per_pixel += 32 + 30
+    per_pixel = 24 * c + 4 * (k * 4 / 3 + 3) + 4 * k * 2 / 3
     per_pixel += (105 if params.get("joint") else 0) + (30 if params.get("steered") else 0)
     tile, _, own, values = _analysed(shape, width, height, params)
     per_tile = 12 * c + (8 * (k * 4 / 3 + 6) if own else 0)
     joint = 16 * k * _kept(shape[0] * shape[1]) if params.get("joint") else 0
+    sample = shape[0] * shape[1] // sample_step(shape[0] * shape[1], shape[1], SAMPLES)
     return (per_pixel * width * height + per_tile * tile + 4 * c * values + joint
-            + 64 * BINS)
+            + 56 * sample + 64 * BINS)
 
 
 def _cost(shape, width, height, params):
