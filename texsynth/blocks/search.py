@@ -367,12 +367,8 @@ def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Gene
     first = np.ones(len(order), bool)
     first[1:] = cell[order][1:] != cell[order][:-1]
     chosen = order[first]
-    grid_r = np.full(gy * gx, -1, np.int64)
-    grid_c = np.zeros(gy * gx, np.int64)
-    grid_p = np.full(gy * gx, -np.inf)
-    grid_r[cell[chosen]] = rows[chosen]
-    grid_c[cell[chosen]] = cols[chosen]
-    grid_p[cell[chosen]] = priority[chosen]
+    # The kept pixels' cells, ascending (the sort's first key): a neighbouring cell's pixel is
+    # looked up by bisection, so the work is the pixels', never the grid's (gy gx cells).
     me = cell[chosen]
     my_r, my_c, my_p = rows[chosen], cols[chosen], priority[chosen]
     keep_chosen = np.ones(len(chosen), bool)
@@ -382,12 +378,12 @@ def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Gene
             if dy == 0 and dx == 0:
                 continue
             other = ((ccy + dy) % gy) * gx + (ccx + dx) % gx
-            orow = grid_r[other]
-            valid = (other != me) & (orow >= 0)
-            ddy = np.abs(orow - my_r) % h
-            ddx = np.abs(grid_c[other] - my_c) % w
+            at = np.minimum(np.searchsorted(me, other), len(me) - 1)
+            valid = (other != me) & (me[at] == other)
+            ddy = np.abs(my_r[at] - my_r) % h
+            ddx = np.abs(my_c[at] - my_c) % w
             close = (np.minimum(ddy, h - ddy) < spacing) & (np.minimum(ddx, w - ddx) < spacing)
-            op = grid_p[other]
+            op = my_p[at]
             beaten = (op > my_p) | ((op == my_p) & (other < me))
             keep_chosen &= ~(valid & close & beaten)
     mask = np.zeros(len(rows), bool)
