@@ -195,3 +195,14 @@ def test_a_camera_photo_fits_the_default_budgets():
     seconds, peak = predict((3000, 4000, 3))
     assert 0.3 * 2**30 < peak < 2 * 2**30  # the result, its positions and the band's strips
     assert seconds < 600
+
+
+@pytest.mark.parametrize("scale", [1e30, 1e-30, 3e38])
+def test_huge_and_tiny_values_tile_as_ordinary_ones(scale):
+    """Squared differences of values near 1e30 overflow float32: the photo is quilted at an
+    exact power-of-two scale, so it tiles as its ordinary copy does, in its own pixels."""
+    photo = smooth_noise((104, 120), seed=3, sigma=2.5)[17:81, 23:103] * 0.8 + 0.1  # no wrap
+    huge = (photo.astype(np.float64) * scale).astype(np.float32)
+    tile, positions = texsynth.make_tileable_positions(huge, seed=2)
+    assert np.array_equal(tile, huge[positions[:, :, 0], positions[:, :, 1]])
+    assert seam_ratio(huge / np.float32(scale)) > 2 and seam_ratio(tile / np.float32(scale)) < 1.3
