@@ -190,6 +190,15 @@ def test_a_photo_smaller_than_16_pixels_is_refused():
         texsynth.make_tileable(np.zeros((12, 40, 3), np.float32))
 
 
+@pytest.mark.parametrize("shape", [(24, 24), (16, 200), (27, 27)])
+def test_a_photo_too_small_for_any_band_is_refused_saying_so(shape):
+    """The narrowest band would change more than half of these: the message said the band
+    "must be between 8 and 7 pixels"."""
+    with pytest.raises(ValueError, match="too small to make tileable.*28 x 28"):
+        texsynth.make_tileable(np.random.default_rng(0).random(shape), band=8)
+    assert texsynth.make_tileable(np.random.default_rng(0).random((28, 28))).shape == (28, 28, 1)
+
+
 def test_a_camera_photo_fits_the_default_budgets():
     """A 4000 x 3000 photo (12 MP) was refused as needing 37 GiB; its cost follows the band."""
     seconds, peak = predict((3000, 4000, 3))

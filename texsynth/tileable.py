@@ -395,6 +395,10 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     seed = validation.seed(seed)
     h, w, c = a.shape
     widest = _widest((h, w))
+    if widest < MIN_BAND:  # no band is possible: say so, not "between 8 and 7 pixels"
+        raise ValueError(f"photo is {w} x {h} pixels, too small to make tileable: even a band "
+                         f"of {MIN_BAND} pixels would change more than half of it; use a larger "
+                         "photo (28 x 28 pixels at least)")
     band = default_band((h, w)) if band is None else validation.whole(band, "band (pixels)", 1)
     if not MIN_BAND <= band <= widest:
         raise ValueError(f"band must be between {MIN_BAND} and {widest} pixels (wider would "

@@ -26,11 +26,11 @@ OPERATORS = {
 
 @st.composite
 def followers(draw):
-    """One or two followers: mostly the source's 24 x 24, sometimes another size; float or
+    """One or two followers: mostly the source's 32 x 32, sometimes another size; float or
     byte; now and then a NaN, an infinity or a value of 1e30 at a drawn pixel."""
     out = []
     for k in range(draw(st.integers(1, 2))):
-        h, w = draw(st.sampled_from([(24, 24)] * 4 + [(24, 20), (16, 24)]))
+        h, w = draw(st.sampled_from([(32, 32)] * 4 + [(32, 28), (24, 32)]))
         values = noise(h, w, channels=draw(st.sampled_from([1, 3, 4])), seed=10 + k)
         bad = draw(st.sampled_from([None, None, np.nan, np.inf, -np.inf, 1e30]))
         if bad is not None:
@@ -43,7 +43,7 @@ def followers(draw):
 @given(operator=st.sampled_from(sorted(OPERATORS)), maps=followers())
 def test_followers_are_checked_before_anything_is_made(operator, maps):
     bpy.ops.wm.read_homefile(use_empty=True)
-    tree = material_with(generated_image(noise(24, 24, seed=1), name="colour"))
+    tree = material_with(generated_image(noise(32, 32, seed=1), name="colour"))
     tree.nodes["source node"].select = True
     for k, (values, is_float, _) in enumerate(maps):
         node = tree.nodes.new("ShaderNodeTexImage")
@@ -64,7 +64,7 @@ def test_followers_are_checked_before_anything_is_made(operator, maps):
         # Only a float image keeps a NaN or an infinity; such a map must have been refused,
         # and a map of another size too.
         assert not (is_float and bad is not None and not np.isfinite(bad))
-        assert values.shape[:2] == (24, 24)
+        assert values.shape[:2] == (32, 32)
     made = set(bpy.data.images) - images
     assert len(made) == 1 + len(maps)
     for image in made:
@@ -74,8 +74,8 @@ def test_followers_are_checked_before_anything_is_made(operator, maps):
 @pytest.mark.parametrize("operator", sorted(OPERATORS))
 def test_a_nan_follower_is_refused_naming_it(operator):
     """The case the issue found, by itself."""
-    tree = material_with(generated_image(noise(24, 24, seed=1), name="colour"))
-    values = noise(24, 24, channels=1, seed=3)
+    tree = material_with(generated_image(noise(32, 32, seed=1), name="colour"))
+    values = noise(32, 32, channels=1, seed=3)
     values[5, 6, 0] = np.nan
     node = tree.nodes.new("ShaderNodeTexImage")
     node.name = "rough node"
