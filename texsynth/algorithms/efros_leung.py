@@ -151,23 +151,23 @@ def _memory(shape, width, height, params):
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Every output pixel's window against
     every exemplar window: the 7 x 7 lower bound's matrix product over (C + 1) planes (values and
-    mask), plus per-pixel bookkeeping, plus a fixed cost per batch (about 0.6 ms of numpy calls:
-    the whole run on a strip 16 pixels high, 10 pixels a batch)."""
+    mask), plus per-pixel bookkeeping, plus a fixed cost per batch (about 0.3 ms of numpy calls:
+    most of a run on a strip 8 or 16 pixels high, 8 to 16 pixels a batch)."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
     units = width * height * windows * min(k, 7) ** 2 * (c + 1)
-    return 0.05 + 3.4e-10 * units + 2.0e-5 * width * height + 6.0e-4 * _batches(
+    return 0.05 + 3.4e-10 * units + 2.0e-5 * width * height + 3.0e-4 * _batches(
         windows, width, height)
 
 
 def _batches(windows: int, width: int, height: int) -> float:
     """Batches of a run: the filled region grows from the seed by about one ring of pixels
-    every 2.4 batches (two fronts a side apart once it has wrapped the shorter side), so about
-    1.2 per pixel of the longer side (measured 1.0 to 1.9 on outputs from 64 x 64 to 8192 x 8),
-    and never fewer than the pixels over the largest batch."""
+    every 3 batches (two fronts a side apart once it has wrapped the shorter side), so about
+    1.5 per pixel of the longer side (measured 1.0 to 1.9 on outputs from 64 x 64 to 16384 x
+    16), and never fewer than the pixels over the largest batch."""
     largest = max(1, BATCH_BYTES // (4 * windows))
-    return max(1.2 * max(width, height) + 30.0, width * height / largest)
+    return max(1.5 * max(width, height) + 30.0, width * height / largest)
 
 
 METHOD = register(Method(
