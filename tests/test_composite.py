@@ -254,3 +254,11 @@ def test_a_one_pixel_composite(seed):
     x, _ = _three_stripes()
     out = composite.synthesize(x, 1, 1, seed=seed, max_cliques=3, sweeps=2).image
     assert out.shape == (1, 1, 3) and np.isfinite(out).all()
+
+
+def test_a_label_image_of_too_many_classes_is_the_promised_value_error():
+    """labels_from_image's docstring promises ValueError above MAX_CLASSES classes."""
+    many = np.arange(segmentation.MAX_CLASSES + 1).repeat(4).reshape(-1, 4)
+    with pytest.raises(ValueError, match=f"{segmentation.MAX_CLASSES + 1} classes; at most"):
+        labels_from_image(many)
+    assert labels_from_image(many[:-1]).max() == segmentation.MAX_CLASSES - 1
