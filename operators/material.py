@@ -18,10 +18,9 @@ made: on error or cancel the file is unchanged.
 """
 
 import bpy
-import numpy as np
 
 from .. import texsynth
-from . import output, pixels, properties, source
+from . import output, properties, source
 from .job import Job, JobOperator
 
 MODE_ITEMS = (
@@ -46,19 +45,8 @@ def material_maps(operator, context):
         names = ", ".join(m.label for m in texsynth.methods() if m.positions)
         raise ValueError(f"{method.label} does not copy pixels, so the maps of a material cannot "
                          f"follow it; choose {names}")
-    maps = []
-    for node_name, image in [(src.node, bpy.data.images[src.image])] + [
-            (n.name, n.image) for n in source.follower_nodes(context, src)]:
-        values, encoding = pixels.read_exemplar(image)
-        if not np.isfinite(values).all():
-            raise ValueError(f"Image '{image.name}' of node '{node_name}' contains NaN or "
-                             "infinite values; repair or clamp that map first")
-        if maps and values.shape[:2] != maps[0][1].shape[:2]:
-            h, w = maps[0][1].shape[:2]
-            raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
-                             f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
-                             f"'{src.image}': the maps of a material must have one size")
-        maps.append((node_name, values, encoding, operator.target(image.name, method.name)))
+    maps = [(node_name, values, encoding, operator.target(image.name, method.name))
+            for node_name, image, values, encoding in source.read_maps(context, src)]
     return src, method, maps
 
 

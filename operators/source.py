@@ -4,6 +4,9 @@ maps of its material that follow it (the selected Image Texture nodes)."""
 from dataclasses import dataclass
 
 import bpy
+import numpy as np
+
+from . import pixels
 
 
 @dataclass(frozen=True)
@@ -55,3 +58,29 @@ def follower_nodes(context, src: Source):
     tree = bpy.data.materials[src.material].node_tree
     return [n for n in tree.nodes if n.select and n.bl_idname == "ShaderNodeTexImage"
             and n.name != src.node and n.image is not None]
+
+
+def read_maps(context, src: Source, followers: bool = True) -> list:
+    """``(node name, image, pixels, encoding)`` of the source image, then (``followers``) of
+    each follower node's image: the one place the maps of a material are read and checked.
+
+    Raises ``ValueError`` naming the image and node when a map holds NaN or infinite values
+    (a follower's values are copied as they are, so they would be written into the result) or
+    its size differs from the source's.
+    """
+    nodes = [(src.node, bpy.data.images[src.image])]
+    if followers:
+        nodes += [(n.name, n.image) for n in follower_nodes(context, src)]
+    maps = []
+    for node_name, image in nodes:
+        values, encoding = pixels.read_exemplar(image)
+        if not np.isfinite(values).all():
+            raise ValueError(f"Image '{image.name}' of node '{node_name}' contains NaN or "
+                             "infinite values; repair or clamp that map first")
+        if maps and values.shape[:2] != maps[0][2].shape[:2]:
+            h, w = maps[0][2].shape[:2]
+            raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
+                             f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
+                             f"'{src.image}': the maps of a material must have one size")
+        maps.append((node_name, image, values, encoding))
+    return maps

@@ -12,7 +12,7 @@ computed before anything is made: on error or cancel the file is unchanged.
 import bpy
 
 from .. import texsynth
-from . import nodes, output, pixels, properties, source
+from . import nodes, output, properties, source
 from .job import Job, JobOperator
 
 #: The name given to the results: ``<image>_tileable_<seed>``.
@@ -53,17 +53,9 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
             if not self.properties.is_property_set(name):
                 setattr(self, name, getattr(settings, name))
         src = source.find_source(context)
-        followers = source.follower_nodes(context, src) if self.all_maps else []
-        maps = []
-        for node_name, image in [(src.node, bpy.data.images[src.image])] + [
-                (n.name, n.image) for n in followers]:
-            values, encoding = pixels.read_exemplar(image)
-            if maps and values.shape[:2] != maps[0][1].shape[:2]:
-                h, w = maps[0][1].shape[:2]
-                raise ValueError(f"Image '{image.name}' of node '{node_name}' is "
-                                 f"{values.shape[1]} x {values.shape[0]}, not {w} x {h} like "
-                                 f"'{src.image}': the maps of a material must have one size")
-            maps.append((node_name, values, encoding, self.target(image.name, SUFFIX)))
+        maps = [(node_name, values, encoding, self.target(image.name, SUFFIX))
+                for node_name, image, values, encoding
+                in source.read_maps(context, src, followers=self.all_maps)]
         job = Job(texsynth.make_tileable_positions, maps[0][1], band=self.band or None,
                   seed=self.seed)
         return job, (src, maps)

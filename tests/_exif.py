@@ -1,5 +1,6 @@
 """EXIF test files built byte by byte: a TIFF structure, a JPEG holding one in its APP1 segment
-with a frame header giving its size, and the APP1 segment inserted into any JPEG."""
+with a frame header giving its size, the APP1 segment inserted into any JPEG, and WebP files
+(RIFF chunks: a canvas or frame header giving the size, an EXIF chunk)."""
 
 import struct
 
@@ -54,3 +55,27 @@ def with_exif(jpeg_bytes: bytes, ifd0: dict, exif: dict) -> bytes:
     payload = b"Exif\x00\x00" + tiff(ifd0, exif, ">")
     return jpeg_bytes[:2] + b"\xff\xe1" + struct.pack(">H", len(payload) + 2) + payload \
         + jpeg_bytes[2:]
+
+
+def _chunk(fourcc: bytes, payload: bytes) -> bytes:
+    """A RIFF chunk, padded to an even length."""
+    return fourcc + struct.pack("<I", len(payload)) + payload + b"\x00" * (len(payload) & 1)
+
+
+def webp(width: int, height: int, ifd0: dict | None = None, exif: dict | None = None, *,
+         prefix: bytes = b"", frame: str = "VP8X") -> bytes:
+    """A WebP file of ``width`` x ``height``: an extended file (``VP8X`` canvas, then an
+    ``EXIF`` chunk holding ``prefix`` and the TIFF structure when ``ifd0`` or ``exif``), or a
+    simple one (``frame`` ``"VP8 "`` or ``"VP8L"``: the frame header only, no pixels)."""
+    if frame == "VP8X":
+        flags = 0x08 if ifd0 or exif else 0
+        chunks = _chunk(b"VP8X", bytes([flags, 0, 0, 0]) + (width - 1).to_bytes(3, "little")
+                        + (height - 1).to_bytes(3, "little"))
+        if ifd0 or exif:
+            chunks += _chunk(b"EXIF", prefix + tiff(ifd0 or {}, exif or {}, "<"))
+    elif frame == "VP8 ":
+        chunks = _chunk(b"VP8 ", b"\x10\x02\x00\x9d\x01\x2a" + struct.pack("<HH", width, height))
+    else:
+        bits = (width - 1) | (height - 1) << 14
+        chunks = _chunk(b"VP8L", b"\x2f" + struct.pack("<I", bits))
+    return b"RIFF" + struct.pack("<I", 4 + len(chunks)) + b"WEBP" + chunks

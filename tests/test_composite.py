@@ -228,3 +228,37 @@ def test_features_in_bands_are_those_of_the_whole_image():
     for texture in (False, True):
         assert np.array_equal(segmentation.features(img, texture),
                               segmentation._features(img, texture))
+
+
+def _three_stripes():
+    rng = np.random.default_rng(0)
+    x = rng.random((32, 32, 3)).astype(np.float32)
+    x[:, 11:22] *= 0.3
+    return x, (np.arange(32)[None, :] * 3 // 32).repeat(32, 0)
+
+
+@pytest.mark.parametrize("one", [0, 1, 2])
+def test_an_output_map_of_one_class_is_filled_with_that_class_texture(one):
+    """Each class's model keeps the cliques it shares with its neighbours; an output label map
+    without those neighbours (one class) once indexed past the classes it held."""
+    x, labels = _three_stripes()
+    out = composite.synthesize(x, 24, 24, labels=labels, output_labels=np.full((24, 24), one),
+                               seed=0, max_cliques=3, sweeps=2).image
+    own = x[labels == one]
+    assert out.shape == (24, 24, 3) and np.isfinite(out).all()
+    assert abs(out.mean() - own.mean()) < 0.05 and 0.7 < out.std() / own.std() < 1.3
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_one_pixel_composite(seed):
+    x, _ = _three_stripes()
+    out = composite.synthesize(x, 1, 1, seed=seed, max_cliques=3, sweeps=2).image
+    assert out.shape == (1, 1, 3) and np.isfinite(out).all()
+
+
+def test_a_label_image_of_too_many_classes_is_the_promised_value_error():
+    """labels_from_image's docstring promises ValueError above MAX_CLASSES classes."""
+    many = np.arange(segmentation.MAX_CLASSES + 1).repeat(4).reshape(-1, 4)
+    with pytest.raises(ValueError, match=f"{segmentation.MAX_CLASSES + 1} classes; at most"):
+        labels_from_image(many)
+    assert labels_from_image(many[:-1]).max() == segmentation.MAX_CLASSES - 1

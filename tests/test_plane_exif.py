@@ -28,6 +28,9 @@ from _exif import (
 from _exif import (
     tiff as _tiff,
 )
+from _exif import (
+    webp as _webp,
+)
 
 import texsynth
 from texsynth.plane import focal_px_from_file
@@ -94,6 +97,44 @@ def test_files_that_do_not_say_give_none(tmp_path):
 def test_a_missing_file_is_refused(tmp_path):
     with pytest.raises(ValueError, match="no image file"):
         focal_px_from_file(tmp_path / "nope.jpg")
+
+
+@pytest.mark.parametrize("path", [None, 3, True, 1.5, ["a.jpg"], object()])
+def test_a_path_that_is_no_path_is_a_value_error_as_promised(path):
+    with pytest.raises(ValueError, match="path must be a file path"):
+        focal_px_from_file(path)
+
+
+def test_str_bytes_and_pathlike_paths_read_the_same(tmp_path):
+    path = tmp_path / "phone.jpg"
+    path.write_bytes(_jpeg(4000, 3000, {}, {FOCAL_35MM: (SHORT, 26)}))
+    expected = 26 / math.hypot(36, 24) * 5000
+    for given in (path, str(path), bytes(path)):
+        assert focal_px_from_file(given) == pytest.approx(expected)
+    for empty in ("", b"", str(tmp_path), "a\0b"):
+        with pytest.raises(ValueError, match="no image file"):
+            focal_px_from_file(empty)
+
+
+@pytest.mark.parametrize("prefix", [b"", b"Exif\x00\x00"], ids=["spec", "exif-prefix"])
+def test_a_webp_with_exif_gives_its_focal_length(tmp_path, prefix):
+    # The container specification's EXIF chunk is the TIFF structure itself; some writers put
+    # JPEG's "Exif\0\0" before it. Both are read, at the canvas size of the VP8X chunk.
+    path = tmp_path / "photo.webp"
+    path.write_bytes(_webp(640, 480, {}, {FOCAL_35MM: (SHORT, 26)}, prefix=prefix))
+    assert focal_px_from_file(path) == pytest.approx(26 / math.hypot(36, 24) * 800)
+    path.write_bytes(_webp(1600, 1200, {}, {FOCAL_LENGTH: (RATIONAL, (4, 1)),
+                                            FOCAL_PLANE_X: (RATIONAL, (400, 1)),
+                                            FOCAL_PLANE_UNIT: (SHORT, 4), PIXEL_X: (LONG, 3200),
+                                            PIXEL_Y: (LONG, 2400)}, prefix=prefix))
+    assert focal_px_from_file(path) == pytest.approx(4 * 400 * 1600 / 3200)
+
+
+@pytest.mark.parametrize("frame", ["VP8X", "VP8 ", "VP8L"])
+def test_a_webp_without_exif_gives_none(tmp_path, frame):
+    path = tmp_path / "plain.webp"
+    path.write_bytes(_webp(640, 480, frame=frame))
+    assert focal_px_from_file(path) is None
 
 
 def test_a_damaged_exif_block_says_nothing(tmp_path):

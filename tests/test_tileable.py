@@ -190,8 +190,28 @@ def test_a_photo_smaller_than_16_pixels_is_refused():
         texsynth.make_tileable(np.zeros((12, 40, 3), np.float32))
 
 
+@pytest.mark.parametrize("shape", [(24, 24), (16, 200), (27, 27)])
+def test_a_photo_too_small_for_any_band_is_refused_saying_so(shape):
+    """The narrowest band would change more than half of these: the message said the band
+    "must be between 8 and 7 pixels"."""
+    with pytest.raises(ValueError, match="too small to make tileable.*28 x 28"):
+        texsynth.make_tileable(np.random.default_rng(0).random(shape), band=8)
+    assert texsynth.make_tileable(np.random.default_rng(0).random((28, 28))).shape == (28, 28, 1)
+
+
 def test_a_camera_photo_fits_the_default_budgets():
     """A 4000 x 3000 photo (12 MP) was refused as needing 37 GiB; its cost follows the band."""
     seconds, peak = predict((3000, 4000, 3))
     assert 0.3 * 2**30 < peak < 2 * 2**30  # the result, its positions and the band's strips
     assert seconds < 600
+
+
+@pytest.mark.parametrize("scale", [1e30, 1e-30, 3e38])
+def test_huge_and_tiny_values_tile_as_ordinary_ones(scale):
+    """Squared differences of values near 1e30 overflow float32: the photo is quilted at an
+    exact power-of-two scale, so it tiles as its ordinary copy does, in its own pixels."""
+    photo = smooth_noise((104, 120), seed=3, sigma=2.5)[17:81, 23:103] * 0.8 + 0.1  # no wrap
+    huge = (photo.astype(np.float64) * scale).astype(np.float32)
+    tile, positions = texsynth.make_tileable_positions(huge, seed=2)
+    assert np.array_equal(tile, huge[positions[:, :, 0], positions[:, :, 1]])
+    assert seam_ratio(huge / np.float32(scale)) > 2 and seam_ratio(tile / np.float32(scale)) < 1.3

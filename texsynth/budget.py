@@ -18,7 +18,6 @@ time and what to change.
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable
 
@@ -45,16 +44,8 @@ _factor: float | None = None
 
 def time_budget() -> float:
     """Seconds a run may be predicted to take: ``TEXSYNTH_TIME_BUDGET`` or one hour."""
-    value = os.environ.get("TEXSYNTH_TIME_BUDGET", "")
-    try:
-        budget = float(value) if value else DEFAULT_BUDGET
-    except ValueError:
-        raise ValueError(f"TEXSYNTH_TIME_BUDGET must be a number of seconds, got {value!r}") \
-            from None
-    if not budget > 0:
-        raise ValueError(f"TEXSYNTH_TIME_BUDGET must be a positive number of seconds, "
-                         f"got {value!r}")
-    return budget
+    return validation.budget_variable("TEXSYNTH_TIME_BUDGET", DEFAULT_BUDGET,
+                                      "a number of seconds")
 
 
 def _workload() -> Callable[[], float]:

@@ -395,10 +395,18 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     seed = validation.seed(seed)
     h, w, c = a.shape
     widest = _widest((h, w))
+    if widest < MIN_BAND:  # no band is possible: say so, not "between 8 and 7 pixels"
+        raise ValueError(f"photo is {w} x {h} pixels, too small to make tileable: even a band "
+                         f"of {MIN_BAND} pixels would change more than half of it; use a larger "
+                         "photo (28 x 28 pixels at least)")
     band = default_band((h, w)) if band is None else validation.whole(band, "band (pixels)", 1)
     if not MIN_BAND <= band <= widest:
         raise ValueError(f"band must be between {MIN_BAND} and {widest} pixels (wider would "
                          f"change more than half of the {w} x {h} photo), got {band}")
+    # Values of huge or tiny magnitude are quilted at an exact power-of-two scale (squared
+    # differences near 1e30 overflow float32), and the result is the photo's own pixels.
+    scale = validation.magnitude_scale(a)
+    given, a = a, a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
     what = f"making the {w} x {h} photo tileable"
     seconds, peak = predict(a.shape, band)
     validation.check_memory(peak, what, "a narrower band")
@@ -430,5 +438,7 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                      down, lay, rng, report.span(0.5, 0.99), used)
     out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
     positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
+    if scale != 1.0:
+        out = given[positions[:, :, 0], positions[:, :, 1]]
     report(1.0, "Make tileable: done")
     return out, positions

@@ -10,7 +10,8 @@ the checked array itself.
 - :func:`params`: keyword arguments against a method's typed ``Param`` records;
 - :func:`magnitude_scale`: the power of two that brings huge or tiny values to order one;
 - :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget
-  (the time budget is :mod:`texsynth.budget`'s).
+  (the time budget is :mod:`texsynth.budget`'s); :func:`budget_variable` reads either
+  budget's environment variable.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import os
 import numpy as np
 
 __all__ = ["MAX_SIDE", "image", "size", "seed", "number", "whole", "finite", "params",
-           "magnitude_scale", "memory_budget", "check_memory"]
+           "magnitude_scale", "memory_budget", "budget_variable", "check_memory"]
 
 #: Largest output side accepted (pixels).
 MAX_SIDE = 16384
@@ -128,9 +129,47 @@ def magnitude_scale(a: np.ndarray) -> float:
     return 1.0 if ORDINARY[0] <= k <= ORDINARY[1] else float(2.0 ** -k)
 
 
+#: Bytes a synthesis may plan to use when ``TEXSYNTH_MEMORY_BUDGET`` is not set.
+DEFAULT_MEMORY = 8 << 30
+
+
 def memory_budget() -> int:
-    """Bytes a synthesis may plan to use: ``TEXSYNTH_MEMORY_BUDGET`` (bytes) or 8 GiB."""
-    return int(os.environ.get("TEXSYNTH_MEMORY_BUDGET", 8 << 30))
+    """Bytes a synthesis may plan to use: ``TEXSYNTH_MEMORY_BUDGET`` (bytes) or 8 GiB.
+
+    Raises ``ValueError`` naming the variable when it is set to anything but a positive whole
+    number of bytes (``1e9`` and ``4_000_000_000`` are whole; ``abc``, ``0``, ``1.5`` are not).
+
+    Examples
+    --------
+    >>> memory_budget() > 0
+    True
+    """
+    return budget_variable("TEXSYNTH_MEMORY_BUDGET", DEFAULT_MEMORY, "a whole number of bytes",
+                            whole=True)
+
+
+def budget_variable(name: str, default: float, unit: str, *, whole: bool = False) -> float:
+    """The environment variable ``name`` as a positive finite number (``default`` when unset
+    or empty), or ``ValueError`` naming the variable, its value and ``unit``; ``whole``: an
+    integral value, returned as int. The one reader of the budget variables (memory and
+    time).
+
+    Examples
+    --------
+    >>> budget_variable("TEXSYNTH_NO_SUCH_BUDGET", 3600.0, "a number of seconds")
+    3600.0
+    """
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (np.isfinite(value) and value > 0) or (whole and value != int(value)):
+        raise ValueError(f"{name} must be {unit} greater than 0, got {text!r}; set it to a "
+                         f"number like {default:.0f} or unset it")
+    return int(value) if whole else value
 
 
 def check_memory(need: float, what: str, advice: str = "") -> None:

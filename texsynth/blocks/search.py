@@ -347,6 +347,10 @@ def best_candidate(table, cand: np.ndarray, z: np.ndarray, current: np.ndarray,
     return np.where(scored[every, pick] < d[len(pixel):], cand[every, pick], current)
 
 
+#: The 8 neighbouring cells' offsets (row, col), as columns to broadcast against the cells.
+_AROUND = np.array([(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx])
+
+
 def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Generator):
     """Mask over the given pixels keeping a subset whose members are pairwise at toroidal
     Chebyshev distance >= ``spacing``, the best ``priority`` first within each neighbourhood.
@@ -367,29 +371,21 @@ def sparse_subset(rows, cols, priority, shape, spacing: int, rng: np.random.Gene
     first = np.ones(len(order), bool)
     first[1:] = cell[order][1:] != cell[order][:-1]
     chosen = order[first]
-    grid_r = np.full(gy * gx, -1, np.int64)
-    grid_c = np.zeros(gy * gx, np.int64)
-    grid_p = np.full(gy * gx, -np.inf)
-    grid_r[cell[chosen]] = rows[chosen]
-    grid_c[cell[chosen]] = cols[chosen]
-    grid_p[cell[chosen]] = priority[chosen]
+    # The kept pixels' cells, ascending (the sort's first key): a neighbouring cell's pixel is
+    # looked up by bisection, so the work is the pixels', never the grid's (gy gx cells).
     me = cell[chosen]
     my_r, my_c, my_p = rows[chosen], cols[chosen], priority[chosen]
-    keep_chosen = np.ones(len(chosen), bool)
     ccy, ccx = me // gx, me % gx
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            if dy == 0 and dx == 0:
-                continue
-            other = ((ccy + dy) % gy) * gx + (ccx + dx) % gx
-            orow = grid_r[other]
-            valid = (other != me) & (orow >= 0)
-            ddy = np.abs(orow - my_r) % h
-            ddx = np.abs(grid_c[other] - my_c) % w
-            close = (np.minimum(ddy, h - ddy) < spacing) & (np.minimum(ddx, w - ddx) < spacing)
-            op = grid_p[other]
-            beaten = (op > my_p) | ((op == my_p) & (other < me))
-            keep_chosen &= ~(valid & close & beaten)
+    # the 8 neighbouring cells of each kept pixel's cell at once: (8, kept)
+    other = ((ccy + _AROUND[:, :1]) % gy) * gx + (ccx + _AROUND[:, 1:]) % gx
+    at = np.minimum(np.searchsorted(me, other), len(me) - 1)
+    valid = (other != me) & (me[at] == other)
+    ddy = np.abs(my_r[at] - my_r) % h
+    ddx = np.abs(my_c[at] - my_c) % w
+    close = (np.minimum(ddy, h - ddy) < spacing) & (np.minimum(ddx, w - ddx) < spacing)
+    op = my_p[at]
+    beaten = (op > my_p) | ((op == my_p) & (other < me))
+    keep_chosen = ~(valid & close & beaten).any(axis=0)
     mask = np.zeros(len(rows), bool)
     mask[chosen[keep_chosen]] = True
     return mask

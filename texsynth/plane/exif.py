@@ -16,7 +16,9 @@ the stored height.
 
 from __future__ import annotations
 
+import io
 import math
+import os
 import struct
 from pathlib import Path
 
@@ -34,17 +36,57 @@ def focal_px_from_file(path) -> float | None:
     """Focal length in pixels of the image stored in ``path`` (JPEG, TIFF, PNG, WebP, HEIC), from
     its EXIF; None when the file does not say (no EXIF, or no usable focal length tags).
 
-    Raises ``ValueError`` when ``path`` is not a readable file.
+    Parameters
+    ----------
+    path : str, bytes or os.PathLike
+        The image file.
+
+    Returns
+    -------
+    float or None
+        Pixels of the stored image (see the module notes for the tags and their order).
+
+    Raises
+    ------
+    ValueError
+        When ``path`` is not a path (None, a number...) or not a readable file.
+
+    References
+    ----------
+    CIPA DC-008 (Exif 2.3) (the tags); CIPA DCG-001 (the 35 mm equivalent);
+    Google, "WebP Container Specification", Extended File Format (the EXIF chunk).
+
+    Examples
+    --------
+    >>> focal_px_from_file("no such photo.jpg")
+    Traceback (most recent call last):
+    ...
+    ValueError: no image file at 'no such photo.jpg'
     """
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"no image file at '{path}'")
-    with path.open("rb") as handle:
-        try:
-            tags = exifread.process_file(handle, details=False, extract_thumbnail=False)
-        except Exception:  # noqa: BLE001  (a damaged EXIF block says nothing; the photo is fine)
-            tags = {}
-        stored = _stored_size(handle, tags)
+    try:
+        name = os.fsdecode(path)  # str, bytes and os.PathLike; TypeError for anything else
+    except TypeError:
+        raise ValueError(f"path must be a file path (str, bytes or os.PathLike), got "
+                         f"{type(path).__name__}") from None
+    try:
+        path = Path(name)
+        readable = bool(name) and path.is_file() and os.access(path, os.R_OK)
+    except (OSError, ValueError):  # a NUL byte, a name too long
+        readable = False
+    if not readable:
+        raise ValueError(f"no image file at '{name}'")
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(12)
+            if head[:4] == b"RIFF" and head[8:12] == b"WEBP":
+                stored, block = _webp(handle)
+                tags = _tags(io.BytesIO(block)) if block else {}
+            else:
+                tags = _tags(handle)
+                stored = _stored_size(handle, tags)
+    except OSError as error:
+        raise ValueError(f"the image file '{path}' cannot be read: {error.strerror or error}") \
+            from None
     if stored is None:
         return None
     width, height = stored
@@ -52,6 +94,54 @@ def focal_px_from_file(path) -> float | None:
         if focal is not None and _PLAUSIBLE[0] <= focal / math.hypot(width, height) \
                 <= _PLAUSIBLE[1]:
             return focal
+    return None
+
+
+def _tags(handle) -> dict:
+    """ExifRead's tags of the file (or TIFF block) in ``handle``; none from a damaged block."""
+    handle.seek(0)
+    try:
+        return exifread.process_file(handle, details=False, extract_thumbnail=False)
+    except Exception:  # noqa: BLE001  (a damaged EXIF block says nothing; the photo is fine)
+        return {}
+
+
+def _webp(handle) -> tuple[tuple[int, int] | None, bytes | None]:
+    """The stored (width, height) and the EXIF block (a TIFF structure) of a WebP file, from
+    its RIFF chunks: the canvas of ``VP8X``, else the frame header of ``VP8 `` (lossy) or
+    ``VP8L`` (lossless); the ``EXIF`` chunk, which the container specification defines as the
+    TIFF structure itself (deviation: a leading ``Exif`` and two NUL bytes, as some writers put
+    it, are skipped; ExifRead 3.5 skips six bytes always and read the others as no EXIF)."""
+    size = block = None
+    handle.seek(12)
+    while True:
+        header = handle.read(8)
+        if len(header) < 8:
+            break
+        fourcc, length = header[:4], struct.unpack("<I", header[4:])[0]
+        if fourcc == b"EXIF":
+            block = handle.read(length)
+            block = block[6:] if block[:6] == b"Exif\x00\x00" else block
+        else:
+            payload = handle.read(min(length, 10))
+            size = size or _webp_size(fourcc, payload)
+            handle.seek(length - len(payload), 1)
+        handle.seek(length & 1, 1)  # chunks are padded to an even length
+    return size, block
+
+
+def _webp_size(fourcc: bytes, payload: bytes) -> tuple[int, int] | None:
+    """(width, height) from a WebP chunk's first bytes, or None when it does not give one."""
+    if fourcc == b"VP8X" and len(payload) == 10:
+        return (int.from_bytes(payload[4:7], "little") + 1,
+                int.from_bytes(payload[7:10], "little") + 1)
+    if fourcc == b"VP8 " and len(payload) == 10 and payload[3:6] == b"\x9d\x01\x2a":
+        width, height = struct.unpack("<HH", payload[6:10])
+        return (width & 0x3FFF, height & 0x3FFF) if width & 0x3FFF and height & 0x3FFF \
+            else None
+    if fourcc == b"VP8L" and len(payload) >= 5 and payload[0] == 0x2F:
+        bits = int.from_bytes(payload[1:5], "little")
+        return (bits & 0x3FFF) + 1, ((bits >> 14) & 0x3FFF) + 1
     return None
 
 

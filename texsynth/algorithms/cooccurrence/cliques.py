@@ -333,7 +333,10 @@ class Relaxation:
         gy, gx = np.nonzero(ghost)
         self._ghost_dst = gy * self.wp + gx
         self._ghost_src = ((gy - m) % h + m) * self.wp + (gx - m) % w + m
-        self.classes = int(labels.max(initial=0)) + 1
+        # every class the codes may hold: the map's and the terms' (an interaction term may
+        # name a class of the exemplar that the output map lacks, or the map be one class)
+        self.classes = 1 + max([int(labels.max(initial=0)), int(free_class)]
+                               + [max(term.head, term.tail) for term in self.terms])
         self.pad = np.pad(labels * self.bins + u, m, mode="wrap").ravel()  # int64 codes
         self._shift = int(free_class) * self.bins  # the code of a free pixel is mark + shift
 
