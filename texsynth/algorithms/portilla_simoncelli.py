@@ -67,6 +67,7 @@ import numpy as np
 from ..blocks import fft
 from ..blocks.color import ColorPCA
 from ..blocks.histogram import TargetHistogram, match
+from ..blocks.parallel import small_product
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
@@ -178,17 +179,17 @@ class _Statistics:
         parent = None
         for j in reversed(range(s)):
             bands = [_analytic(b, j, m, pyramid) for m, b in enumerate(coeffs.bands[j])]
-            magnitudes = np.stack([np.abs(b).ravel() for b in bands], axis=1)
-            mag_means[j] = magnitudes.mean(axis=0)
-            centred = magnitudes - mag_means[j]
+            magnitudes = np.stack([np.abs(b).ravel() for b in bands])
+            real = np.stack([b.real.ravel() for b in bands])
+            mag_means[j] = magnitudes.mean(axis=1, dtype=np.float64)
+            centred = magnitudes - mag_means[j][:, None].astype(np.float32)
             mag_acorr[j] = [_autocorrelation(a.reshape(b.shape), lags[j])
-                            for a, b in zip(centred.T, bands, strict=True)]
-            mag_cov[j] = centred.T @ centred / len(centred)
-            real = np.stack([b.real.ravel() for b in bands], axis=1)
+                            for a, b in zip(centred, bands, strict=True)]
+            mag_cov[j] = _gram(centred, centred)
             if parent is not None:
                 p_mag, p_phase = _parents(parent, bands[0].shape)
-                mag_parent[j] = centred.T @ p_mag / len(centred)
-                real_parent[j] = real.T @ p_phase / len(real)
+                mag_parent[j] = _gram(centred, p_mag)
+                real_parent[j] = _gram(real, p_phase)
             parent = bands
             low = _lowband(pyramid, low, coeffs.bands[j], j)
             lows[j], low_acorr[j] = TargetHistogram(low), _autocorrelation(low, lags[j])
@@ -207,26 +208,25 @@ def _iterate(x, t: _Statistics, pyramid: SteerablePyramid, lags, progress) -> np
         progress((s - 1 - j) / s, "imposing the statistics")
         bands = [_analytic(b, j, m, pyramid) for m, b in enumerate(coeffs.bands[j])]
         shape = bands[0].shape
-        magnitudes = np.stack([np.abs(b).ravel() for b in bands], axis=1)
-        centred = magnitudes - magnitudes.mean(axis=0)
+        magnitudes = np.stack([np.abs(b).ravel() for b in bands])
+        centred = magnitudes - magnitudes.mean(axis=1, keepdims=True)
         if parent is None:
             centred = _adjust_covariance(centred, t.mag_cov[j])
         else:
             p_mag, p_phase = _parents(parent, shape)
             centred = _adjust_covariance(centred, t.mag_cov[j], p_mag, t.mag_parent[j])
         for m, b in enumerate(bands):
-            a = _impose_autocorrelation(centred[:, m].reshape(shape), t.mag_acorr[j][m])
+            a = _impose_autocorrelation(centred[m].reshape(shape), t.mag_acorr[j][m])
             a += np.float32(t.mag_means[j][m])
             np.maximum(a, 0, out=a)
             old = np.abs(b)
             b *= np.where(old > 0, a / np.where(old > 0, old, 1), 0)
         real = [b.real.astype(np.float32) for b in bands]
         if parent is not None:
-            for m, r in enumerate(real):
-                column = r.reshape(-1, 1)
-                column = _adjust_covariance(column, column.T @ column / len(column),
-                                            p_phase, t.real_parent[j][m:m + 1])
-                real[m] = column.reshape(shape).astype(np.float32)
+            rows = np.stack([r.ravel() for r in real])
+            rows = _adjust_covariance(rows, _gram(rows, rows), p_phase, t.real_parent[j],
+                                      diagonal=True)
+            real = [row.reshape(shape) for row in rows]
         parent = [_analytic(r, j, m, pyramid) for m, r in enumerate(real)]
         low = _lowband(pyramid, low, real, j)
         low = match(_impose_autocorrelation(low, t.low_acorr[j]), t.lows[j])
@@ -273,14 +273,14 @@ def _expand(c: np.ndarray, shape) -> np.ndarray:
 
 
 def _parents(parent: list, shape) -> tuple[np.ndarray, np.ndarray]:
-    """The parent level's bands expanded to ``shape``: their centred magnitudes (N, K) and the
-    real and imaginary parts of their phase-doubled values p^2 / |p| (N, 2K)."""
+    """The parent level's bands expanded to ``shape``: their centred magnitudes (K, N) and the
+    real and imaginary parts of their phase-doubled values p^2 / |p| (2K, N)."""
     expanded = [_expand(p, shape).ravel() for p in parent]
-    magnitudes = np.stack([np.abs(p) for p in expanded], axis=1)
+    magnitudes = np.stack([np.abs(p) for p in expanded])
     doubled = [np.where(np.abs(p) > 0, p * p / np.where(np.abs(p) > 0, np.abs(p), 1), 0)
                for p in expanded]
-    phase = np.stack([d.real for d in doubled] + [d.imag for d in doubled], axis=1)
-    return (magnitudes - magnitudes.mean(axis=0)).astype(np.float32), phase.astype(np.float32)
+    phase = np.stack([d.real for d in doubled] + [d.imag for d in doubled])
+    return (magnitudes - magnitudes.mean(axis=1, keepdims=True)), phase.astype(np.float32)
 
 
 def _lowband(pyramid: SteerablePyramid, low: np.ndarray, bands, j: int) -> np.ndarray:
@@ -334,25 +334,37 @@ def _impose_autocorrelation(x: np.ndarray, target: np.ndarray) -> np.ndarray:
     return fft.irfft2(spectrum, x.shape)
 
 
-def _adjust_covariance(x, cx, y=None, cxy=None) -> np.ndarray:
-    """adjustCorr1s/2s: X (N, a) changed least so that X^T X / N = ``cx`` and, given the fixed
-    Y (N, b), X^T Y / N = ``cxy``: X' = Y Cy^-1 Cxy^T + X0 M, X0 the part of X orthogonal to Y
-    and M^T C0 M = Cx - Cxy Cy^-1 Cxy^T with M = C0^-1/2 Q D^1/2 (Q the rotation closest to
-    the identity)."""
-    x = np.asarray(x, np.float64)
-    n = len(x)
+def _gram(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A B^T / N of the (a, N) and (b, N) rows (``small_product``: no BLAS threads; float32
+    sums, 3e-6 of float64's at 256^2), float64."""
+    return small_product("an,bn->ab", a, b).astype(np.float64) / a.shape[1]
+
+
+def _adjust_covariance(x, cx, y=None, cxy=None, diagonal=False) -> np.ndarray:
+    """adjustCorr1s/2s: the rows X (a, N) changed least so that X X^T / N = ``cx`` and, given
+    the fixed rows Y (b, N), X Y^T / N = ``cxy``: X' = Cxy Cy^-1 Y + M X0, X0 the part of X
+    orthogonal to Y and M C0 M^T = D = Cx - Cxy Cy^-1 Cxy^T with M = D^1/2 Q C0^-1/2 (Q the
+    rotation closest to the identity). ``diagonal``: each row alone (the code's per-band
+    adjustCorr2s of the real parts), only the diagonal of ``cx`` imposed."""
+    x = np.asarray(x, np.float32)
     cx = np.asarray(cx, np.float64)
+    fixed = None
     if y is not None:
-        y = np.asarray(y, np.float64)
-        cy_inv = np.linalg.pinv(y.T @ y / n)
-        x0 = x - y @ (cy_inv @ (y.T @ x / n))
-        fixed = y @ (cy_inv @ np.asarray(cxy, np.float64).T)
-        d = cx - np.asarray(cxy) @ cy_inv @ np.asarray(cxy).T
+        cxy = np.asarray(cxy, np.float64)
+        cy_inv = np.linalg.pinv(_gram(y, y))
+        beta = cy_inv @ _gram(y, x)                                  # X's regression on Y
+        x = x - small_product("ba,bn->an", beta.astype(np.float32), y)
+        fixed = (cy_inv @ cxy.T).astype(np.float32)
+        cx = cx - cxy @ cy_inv @ cxy.T
+    c0 = _gram(x, x)
+    if diagonal:
+        m = np.diag(np.sqrt(np.maximum(np.diag(cx), 0) / np.maximum(np.diag(c0), 1e-30)))
     else:
-        x0, fixed, d = x, 0.0, cx
-    c0 = x0.T @ x0 / n
-    m = _root(d) @ _rotation(c0, d) @ _root(c0, inverse=True)
-    return (fixed + x0 @ m.T).astype(np.float32)
+        m = _root(cx) @ _rotation(c0, cx) @ _root(c0, inverse=True)
+    out = small_product("ka,an->kn", m.astype(np.float32), x)
+    if fixed is not None:
+        out += small_product("ba,bn->an", fixed, y)
+    return out
 
 
 def _root(c, inverse=False) -> np.ndarray:
