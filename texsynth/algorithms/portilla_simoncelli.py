@@ -63,11 +63,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.fft as sfft
 
 from ..blocks import fft
 from ..blocks.color import ColorPCA
 from ..blocks.histogram import TargetHistogram, match
-from ..blocks.parallel import small_product
+from ..blocks.parallel import small_product, threads
 from ..blocks.periodic import periodic_component
 from ..blocks.pyramid import SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
@@ -262,14 +263,16 @@ def _expand(c: np.ndarray, shape) -> np.ndarray:
     zero-padded, values kept)."""
     h1, w1 = c.shape
     h0, w0 = shape
-    spectrum = np.fft.fft2(c)
-    out = np.zeros(shape, np.complex128)
+    spectrum = sfft.fft2(c, workers=threads())
+    out = np.zeros(shape, np.complex64)
     r1, r2, c1, c2 = (h1 + 1) // 2, h1 // 2, (w1 + 1) // 2, w1 // 2
     out[:r1, :c1] = spectrum[:r1, :c1]
     out[:r1, w0 - c2:] = spectrum[:r1, w1 - c2:]
     out[h0 - r2:, :c1] = spectrum[h1 - r2:, :c1]
     out[h0 - r2:, w0 - c2:] = spectrum[h1 - r2:, w1 - c2:]
-    return (np.fft.ifft2(out) * (h0 * w0 / (h1 * w1))).astype(np.complex64)
+    out = sfft.ifft2(out, workers=threads(), overwrite_x=True)
+    out *= np.float32(h0 * w0 / (h1 * w1))
+    return out
 
 
 def _parents(parent: list, shape) -> tuple[np.ndarray, np.ndarray]:
@@ -304,32 +307,38 @@ def _lag_indices(shape, lags: int):
     return np.ix_(r % shape[0], r % shape[1])
 
 
+def _lags(spectrum: np.ndarray, shape, lags: int) -> np.ndarray:
+    """C(tau) = mean_p x(p) x(p + tau) (circular) of x less its mean on the central
+    (2 lags + 1)^2 lags, from x's real FFT ``spectrum`` (|X|^2 transformed back), float64."""
+    power = (spectrum.real ** 2 + spectrum.imag ** 2).astype(np.complex64)
+    power[0, 0] = 0                                              # the mean
+    c = fft.irfft2(power, shape)
+    return c[_lag_indices(shape, lags)].astype(np.float64) / (shape[0] * shape[1])
+
+
 def _autocorrelation(x: np.ndarray, lags: int) -> np.ndarray:
-    """C(tau) = mean_p x(p) x(p + tau) (circular) of ``x`` less its mean on the central
-    (2 lags + 1)^2 lags, float64."""
-    x = np.asarray(x, np.float64)
-    x = x - x.mean()
-    power = np.abs(np.fft.rfft2(x)) ** 2
-    c = np.fft.irfft2(power, x.shape) / x.size
-    return c[_lag_indices(x.shape, lags)]
+    """:func:`_lags` of the image ``x``."""
+    return _lags(fft.rfft2(x), x.shape, lags)
 
 
 def _impose_autocorrelation(x: np.ndarray, target: np.ndarray) -> np.ndarray:
     """modacor22: the even filter h on the central lags with C_x * h = C_y there (C_x's lags
     to twice as far), applied as sqrt(|F h|), the least change of ``x`` that gives it the
-    autocorrelation ``target`` on those lags (its mean kept)."""
+    autocorrelation ``target`` on those lags (its mean kept). F h is a (2L+1)-term sum along
+    each axis: two small products, not a transform."""
     n = target.shape[0]
     lags = (n - 1) // 2
-    cx = _autocorrelation(x, 2 * lags)
+    spectrum = fft.rfft2(x)
+    cx = _lags(spectrum, x.shape, 2 * lags)
     r = np.arange(n)
     offsets = r[:, None] - r[None, :] + 2 * lags                # a - b, shifted into cx
     t = cx[offsets[:, None, :, None], offsets[None, :, None, :]].reshape(n * n, n * n)
     h = np.linalg.lstsq(t, target.ravel(), rcond=None)[0].reshape(n, n)
-    grid = np.zeros(x.shape)
-    grid[_lag_indices(x.shape, lags)] = h
-    gain = np.sqrt(np.abs(np.fft.rfft2(grid))).astype(np.float32)
+    tau = np.arange(-lags, lags + 1)
+    ey = np.exp(-2j * np.pi * np.fft.fftfreq(x.shape[0])[:, None] * tau[None, :])
+    ex = np.exp(-2j * np.pi * tau[:, None] * np.fft.rfftfreq(x.shape[1])[None, :])
+    gain = np.sqrt(np.abs((ey @ h @ ex).real)).astype(np.float32)
     gain[0, 0] = 1.0                                           # the mean
-    spectrum = fft.rfft2(x)
     spectrum *= gain
     return fft.irfft2(spectrum, x.shape)
 
