@@ -24,12 +24,14 @@ def test_keeps_the_power_spectrum_mean_and_deviation_at_any_size(size):
     photo = _photo()
     width, height = size
     out = texsynth.synthesize(photo, width, height, method="random_phase", seed=3)
-    assert out.shape == (height, width, 3) and 0.8 < seam_ratio(out) < 1.25
+    # one wrap line of 48-300 values is a noisy sample: a photo's seam scores 2 to 20
+    assert out.shape == (height, width, 3) and 0.7 < seam_ratio(out) < 1.4
     assert power_spectrum_correlation(photo, out) >= 0.95
-    p = periodic_component(photo)
     span = photo.max(axis=(0, 1)) - photo.min(axis=(0, 1))
-    assert np.all(np.abs(out.mean(axis=(0, 1)) - p.mean(axis=(0, 1))) < 0.03 * span)
-    assert np.all(np.abs(out.std(axis=(0, 1)) - p.std(axis=(0, 1))) < 0.03 * span)
+    assert np.all(np.abs(out.mean(axis=(0, 1)) - photo.mean(axis=(0, 1))) < 0.03 * span)
+    assert np.all(np.abs(out.std(axis=(0, 1)) - photo.std(axis=(0, 1))) < 0.03 * span)
+    assert np.all(out.min(axis=(0, 1)) >= photo.min(axis=(0, 1)))
+    assert np.all(out.max(axis=(0, 1)) <= photo.max(axis=(0, 1)))
 
 
 def test_the_same_size_keeps_the_periodic_components_fourier_modulus():

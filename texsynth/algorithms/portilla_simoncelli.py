@@ -396,17 +396,15 @@ def _rotation(c0, d) -> np.ndarray:
 
 
 def _memory(shape, width, height, params):
-    """The output, noise and pixel sample (C floats each), one channel's pyramid analysis
-    (high-pass, K bands a level, low-pass: 4 B each), level 0's complex bands, parents and
-    their phase-doubled parts (float64 temporaries of N x 3K), the transforms' spectra and the
-    pyramid's filters; the exemplar's sample: its components, periodic component, each
-    channel's sorted targets and its own pyramid."""
-    k, c = params["orientations"], shape[2]
-    n = width * height
-    per_pixel = 12 * c + 4 * (k * 4 / 3 + 3) + 8 * k * 4 + 8 * 3 * k * 3 + 4 * (k + 6) + 64
+    """The larger of the two phases, each about 400 B a pixel of its image (tracemalloc,
+    1024^2 -> 256^2 and 256^2 to 1024^2 outputs: 370-400 B): the exemplar's analysis (its
+    components and periodic component, a pyramid's bands, level 0's complex bands, magnitudes,
+    real parts and the expanded parents with their phase-doubled parts, the sorted targets)
+    and one channel's synthesis (the same work arrays on the output, the noise and output of
+    every channel), with 4 MiB for the pyramids' filters and small arrays."""
     side = min(shape[0], MAX_SIDE) * min(shape[1], MAX_SIDE)
-    per_sample = 16 * c + 4 * c * (k * 4 / 3 + 4) + 8 * k * 4 + 8 * 3 * k * 3 + 4 * (k + 6) + 64
-    return per_pixel * n + per_sample * side + 2 ** 22
+    per_pixel = 400 + 30 * max(params["orientations"] - 4, 0)
+    return per_pixel * max(side, width * height) + 2 ** 22
 
 
 def _cost(shape, width, height, params):
@@ -430,8 +428,8 @@ METHOD = register(Method(
     params=(
         Param("scales", int, 4, "Pyramid levels (capped by exemplar and output sizes)", 1, 8),
         Param("orientations", int, 4, "Oriented subbands per level (K)", 1, 8),
-        Param("neighbourhood", int, 7, "Side of the central autocorrelation lags constrained "
-              "(odd: Na)", 1, 15),
+        Param("neighbourhood", int, 7, "Side Na of the square of central autocorrelation "
+              "lags constrained (an even value counts as the odd one below)", 1, 15),
         Param("iterations", int, 25, "Rounds of imposing the statistics", 1, 200),
     ),
     min_exemplar=8,
