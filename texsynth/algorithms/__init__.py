@@ -10,6 +10,8 @@ function that lists them; a subpackage of that name would replace it on import.
 """
 
 from . import heeger_bergen  # noqa: F401
+from . import portilla_simoncelli  # noqa: F401
+from . import random_phase  # noqa: F401
 from . import efros_leung  # noqa: F401
 from . import multiscale_mrf  # noqa: F401
 from . import de_bonet  # noqa: F401
