@@ -148,3 +148,10 @@ def test_memory_budget_is_checked_before_allocating(monkeypatch, photo):
     with pytest.raises(ValueError, match="over the budget"):
         texsynth.synthesize(photo, 16384, 16384)
     texsynth.synthesize(photo, 64, 64, **FAST)  # small work still fits
+
+
+def test_methods_keep_their_places_so_saved_scenes_keep_their_method():
+    """Blender saves a scene's method by its index in this list: new methods go at the end."""
+    names = [m.name for m in texsynth.methods()]
+    assert names[:7] == ["heeger_bergen", "efros_leung", "multiscale_mrf", "de_bonet",
+                         "cooccurrence", "texture_optimization", "composite"]
