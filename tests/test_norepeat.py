@@ -10,8 +10,13 @@ import pytest
 
 from texsynth.io import read_image
 from texsynth.metrics import gradient_ratio
-from texsynth.norepeat import (gaussianize, period_correlation, predict_memory, tile_and_blend,
-                               triangle_grid)
+from texsynth.norepeat import (
+    gaussianize,
+    period_correlation,
+    predict_memory,
+    tile_and_blend,
+    triangle_grid,
+)
 from texsynth.norepeat.blend import SKEW
 
 from _images import smooth_noise
@@ -40,10 +45,12 @@ def test_the_gaussian_texture_is_a_truncated_gaussian_and_the_table_gives_the_ph
     assert np.abs(g.look_up(g.gaussian) - photo).max() < 2 / 255
 
 
-def test_correlated_colours_are_decorrelated_first():
+def test_correlated_colours_are_decorrelated_first_when_asked():
     exemplar = smooth_noise((128, 128), seed=4)  # channels correlated by about 0.35
     before = np.corrcoef(exemplar.reshape(-1, 3), rowvar=False)
-    after = np.corrcoef(gaussianize(exemplar).gaussian.reshape(-1, 3), rowvar=False)
+    g = gaussianize(exemplar, decorrelate=True)
+    assert np.abs(g.look_up(g.gaussian) - exemplar).max() < 2 / 255
+    after = np.corrcoef(g.gaussian.reshape(-1, 3), rowvar=False)
     off = ~np.eye(3, dtype=bool)
     assert np.abs(before[off]).min() > 0.3 and np.abs(after[off]).max() < 0.05
 
@@ -62,6 +69,7 @@ def test_grey_images_have_one_channel_and_the_input_is_untouched(photo):
     (np.full((16, 16, 3), np.nan), {}, "NaN"),
     (np.zeros((16, 16, 3)), {"lut_size": 3}, "lut_size"),
     (np.zeros((1, 16, 3)), {}, "at least"),
+    (np.zeros((16, 16, 3)), {"decorrelate": "yes"}, "decorrelate"),
 ])
 def test_bad_input_is_refused_naming_the_argument(exemplar, keywords, message):
     with pytest.raises(ValueError, match=message):

@@ -1,7 +1,7 @@
 """Render-time anti-repetition: what a renderer needs so that a texture never repeats.
 
-- :mod:`.gaussian`: the Gaussianised texture with PCA colour and its inverse table (Heitz &
-  Neyret 2018; Deliot & Heitz 2019; Burley 2019's truncated Gaussian);
+- :mod:`.gaussian`: the Gaussianised texture (PCA colour when asked) and its inverse table
+  (Heitz & Neyret 2018; Deliot & Heitz 2019; Burley 2019's truncated Gaussian);
 - :mod:`.blend`: tiling and blending itself in numpy (the triangle grid, the hashed vertex
   offsets, the variance-preserving blend, the look-up), the reference for the Blender node group
   and a writer of never-repeating images for any engine;
