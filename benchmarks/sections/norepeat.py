@@ -79,7 +79,7 @@ def run(ctx) -> str:
     renders.extension()
     photos = PHOTOS[:2] if ctx.quick else PHOTOS
     repeats = 1 if ctx.quick else 2
-    rows, cost_rows, pictures, firsts = [], [], [], ()
+    rows, cost_rows, pictures, readme = [], [], [], None
     for rel, kind in photos:
         full = _photo(rel)
         seconds, peak, predicted = _precompute(full)
@@ -93,17 +93,19 @@ def run(ctx) -> str:
                     f"| {fmt(m['wasserstein'], 4)} | {fmt(m['gradient_ratio'], 2)} | "
                     f"{t_plain:.1f} / {t_after:.1f} ({t_after / t_plain:.2f}x) |")
         plain_g, after_g, _, _ = _pair(photo, "grazing", GRAZING_TILES, 0)
-        pictures.append(np.concatenate([plain[:256, :256], after[:256, :256],
-                                        plain_g[128:384, 128:384], after_g[128:384, 128:384]],
-                                       axis=1))
+        gap = np.ones((256, 6, 3), np.float32)
+        pictures.append(np.concatenate([plain[:256, :256], gap, after[:256, :256], *(3 * [gap]),
+                                        plain_g[128:384, 128:384], gap,
+                                        after_g[128:384, 128:384]], axis=1))
         print(rel, m, t_plain, t_after, flush=True)
-        firsts = firsts or (plain, after)
+        if kind == "structured":
+            readme = (plain, after)
     gap = np.ones((4, pictures[0].shape[1], 3), np.float32)
     sheet = np.concatenate([x for p in pictures for x in (p, gap)][:-1], axis=0)
     picture = ctx.save_jpeg("norepeat_renders.jpg", sheet)
-    # the README's picture: the first photo, plain and after, the whole frame
-    ctx.save_jpeg("norepeat_readme.jpg", np.concatenate(
-        [firsts[0], np.ones((SIZE, 8, 3), np.float32), firsts[1]], axis=1))
+    if readme is not None:  # the README's: the structured photo, plain and after, whole frames
+        ctx.save_jpeg("norepeat_readme.jpg", np.concatenate(
+            [readme[0], np.ones((SIZE, 8, 3), np.float32), readme[1]], axis=1))
     return "\n".join([
         f"Each photo box-averaged to {SIDE} x {SIDE} (so that a {SIZE}-pixel render of "
         f"{TILES} x {TILES} tiles, {SIZE // TILES} pixels a tile, resolves it; at full size a "
