@@ -2,6 +2,7 @@
 Heitz 2019; Burley 2019), and tiling and blending in numpy: what a user would notice is that
 the texture keeps its look (histogram, sharpness) and stops repeating."""
 
+import importlib.util
 import tracemalloc
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from texsynth.metrics import gradient_ratio
 from texsynth.norepeat import (
     gaussianize,
     period_correlation,
+    predict_blend_memory,
     predict_memory,
     tile_and_blend,
     triangle_grid,
@@ -89,6 +91,37 @@ def test_the_memory_prediction_is_within_1_5x_of_the_peak():
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert peak <= predict_memory(exemplar.shape) <= 1.5 * peak
+
+
+@pytest.mark.parametrize("channels", [1, 3])
+def test_the_blend_memory_prediction_is_within_1_5x_of_the_peak(photo, channels):
+    g = gaussianize(photo[:, :, :channels])
+    tracemalloc.start()
+    tile_and_blend(g, 320, 192)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak <= predict_blend_memory(320, 192, channels) <= 1.5 * peak
+
+
+def test_a_blend_over_the_memory_budget_is_refused_before_any_work(photo, monkeypatch):
+    g = gaussianize(photo)
+    monkeypatch.setenv("TEXSYNTH_MEMORY_BUDGET", str(1 << 20))
+    with pytest.raises(ValueError, match="budget"):
+        tile_and_blend(g, 4096, 4096)
+
+
+def test_the_example_writes_the_images_for_other_engines(tmp_path):
+    spec = importlib.util.spec_from_file_location(
+        "break_repetition", SAMPLE.parents[1] / "examples" / "break_repetition.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    example.main([str(SAMPLE), "--srgb", "--preview", "2", "--out", str(tmp_path)])
+    gaussian = read_image(tmp_path / "pool_water_tnb_gaussian.exr")
+    table = read_image(tmp_path / "pool_water_tnb_table.exr")
+    preview = read_image(tmp_path / "pool_water_tnb_preview.png")
+    assert gaussian.shape[:2] == (128, 128) and table.shape[:2] == (3, 4096)
+    assert preview.shape[:2] == (256, 256)
+    assert abs(period_correlation(preview, 128)) < 0.3
 
 
 def test_each_point_lies_in_its_triangle():

@@ -8,9 +8,10 @@
 - :mod:`.measure`: how much a rendered surface still repeats.
 """
 
-from .blend import GRID_SCALE, tile_and_blend, triangle_grid, vertex_offsets
+from .blend import GRID_SCALE, predict_blend_memory, tile_and_blend, triangle_grid, vertex_offsets
 from .gaussian import Gaussianized, gaussianize, predict_memory
 from .measure import period_correlation
 
-__all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend", "triangle_grid",
-           "vertex_offsets", "period_correlation", "GRID_SCALE"]
+__all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend",
+           "predict_blend_memory", "triangle_grid", "vertex_offsets", "period_correlation",
+           "GRID_SCALE"]
