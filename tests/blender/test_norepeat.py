@@ -40,6 +40,14 @@ def test_the_tree_is_rewired_and_the_users_node_and_image_are_kept():
         assert image.colorspace_settings.name == "Non-Color"
 
 
+def test_an_unlinked_vector_becomes_the_uv_map_the_image_node_used():
+    tree = material_with(generated_image(noise(32, 32)))
+    tree.links.remove(tree.nodes["source node"].inputs["Vector"].links[0])
+    assert bpy.ops.texsynth.break_repetition() == {"FINISHED"}
+    (group,) = _groups(tree)
+    assert group.inputs["Vector"].links[0].from_node.bl_idname == "ShaderNodeUVMap"
+
+
 def test_the_shared_groups_are_reused_by_a_second_material():
     material_with(generated_image(noise(32, 32)))
     bpy.ops.texsynth.break_repetition()
