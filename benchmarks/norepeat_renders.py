@@ -64,7 +64,8 @@ def scene(photo: np.ndarray, tiles: int, size: int, samples: int, view: str = "t
     plane = bpy.data.objects.new("plane", mesh)
     bpy.context.scene.collection.objects.link(plane)
     material = bpy.data.materials.new("photo")
-    material.use_nodes = True
+    if material.node_tree is None:  # Blender 5 gives every material its nodes
+        material.use_nodes = True
     tree = material.node_tree
     tree.nodes.clear()
     coords = tree.nodes.new("ShaderNodeTexCoord")
