@@ -10,7 +10,9 @@ Read in this order:
   ``material.py`` (``texsynth.synthesize_material``: the maps of a material together),
   ``composite.py`` (``texsynth.segment``, ``texsynth.synthesize_composite``), ``estimate.py``
   (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``),
-  ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile);
+  ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile),
+  ``norepeat.py`` (``texsynth.break_repetition``: never repeating at render time; its node
+  groups in ``norepeat_nodes.py``);
 * ``panels.py``: every panel;
 * helpers: ``source.py`` (which image and node), ``pixels.py`` (Blender pixels to arrays and
   back), ``output.py`` (the new image datablock or file), ``nodes.py`` (the new node).
@@ -20,9 +22,9 @@ Each module with Blender classes keeps a ``classes`` tuple and its own ``registe
 the settings before the operators, the operators before the panels that show them.
 """
 
-from . import composite, estimate, material, panels, properties, synthesize, tileable
+from . import composite, estimate, material, norepeat, panels, properties, synthesize, tileable
 
-_modules = (properties, synthesize, material, tileable, composite, estimate, panels)
+_modules = (properties, synthesize, material, tileable, norepeat, composite, estimate, panels)
 
 
 def register():

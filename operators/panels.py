@@ -7,6 +7,8 @@ Shader Editor (a material's node tree):
   ``texsynth.make_tileable`` button, each button under its predicted time and memory; under it
 * **Material Maps** (:class:`TEXSYNTH_PT_material`): the maps that follow the active one and
   ``texsynth.synthesize_material`` (guided or column);
+* **No Repetition** (:class:`TEXSYNTH_PT_norepeat`): ``texsynth.break_repetition`` with a
+  hint on which mode suits the photo;
 * **Composite** (:class:`TEXSYNTH_PT_composite`): label image, segmentation, painted layout
   and ``texsynth.synthesize_composite``.
 
@@ -21,7 +23,7 @@ import functools
 import bpy
 
 from .. import texsynth
-from . import composite, output, properties, source
+from . import composite, norepeat, output, properties, source
 
 
 class SidebarPanel:
@@ -154,6 +156,21 @@ class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):
             "COLUMN"
 
 
+class TEXSYNTH_PT_norepeat(SidebarPanel, bpy.types.Panel):
+    """Under the Texture Synthesis panel: ``texsynth.break_repetition`` and which mode suits
+    which photo."""
+
+    bl_label = "No Repetition"
+    bl_parent_id = "TEXSYNTH_PT_synthesize"
+
+    def draw(self, context):
+        layout = self.layout
+        if _source_or_reason(layout, context) is None:
+            return
+        layout.label(text=norepeat.HINT, icon="INFO")
+        layout.operator("texsynth.break_repetition", icon="MOD_ARRAY")
+
+
 class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):
     """Under the Texture Synthesis panel: label source, segmentation, layout and the button."""
 
@@ -227,6 +244,7 @@ class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
     bl_space_type = "VIEW_3D"
 
 
-classes = (TEXSYNTH_PT_synthesize, TEXSYNTH_PT_material, TEXSYNTH_PT_composite,
+classes = (TEXSYNTH_PT_synthesize, TEXSYNTH_PT_material, TEXSYNTH_PT_norepeat,
+           TEXSYNTH_PT_composite,
            TEXSYNTH_PT_plane_image, TEXSYNTH_PT_plane_view3d)
 register, unregister = bpy.utils.register_classes_factory(classes)

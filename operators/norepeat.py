@@ -1,0 +1,181 @@
+"""``texsynth.break_repetition``: the active Image Texture node's texture made never to repeat
+at render time, the other selected Image Texture nodes of the material following.
+
+Mode **Tiling and Blending** (Heitz & Neyret 2018; Deliot & Heitz 2019; Burley 2019's
+truncated Gaussian): ``texsynth.norepeat.gaussianize`` precomputes each map's Gaussianised
+texture and inverse table, stored as two new packed float images (Non-Color); a new group node
+per map (``norepeat_nodes.map_group``) reads them through the shared node groups and takes
+over the source node's outgoing links. Every map's group node is fed by the same Vector (the
+active node's, so a Mapping node in front keeps working), and by one Scale and one Seed value
+node, so albedo, roughness and normal get the same cells. The user's images and nodes are kept;
+everything is checked and computed before anything is made: on error or cancel the file is
+unchanged, and one Ctrl+Z undoes the whole.
+
+Values are precomputed as the shader reads them: byte sRGB images decoded to scene-linear,
+float images as Blender holds them, Non-Color data as stored.
+"""
+
+import bpy
+import numpy as np
+
+from .. import texsynth
+from ..texsynth.blocks.color import srgb_to_linear
+from ..texsynth.norepeat import GRID_SCALE, gaussianize, predict_memory
+from . import norepeat_nodes, pixels, source
+from .job import Job, JobOperator
+
+MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
+          "Histogram-preserving blend of randomly offset copies on a triangle grid: for "
+          "stochastic textures (gravel, grass, sand, rock); structured ones show ghosts")]
+#: The hint under the button: which mode suits which photo.
+HINT = "Stochastic photos (gravel, grass, dirt) suit Tiling and Blending"
+#: The images made per map: Gaussianised texture, table (name suffixes).
+SUFFIXES = ("tnb_gaussian", "tnb_table")
+GAP = 300.0  # the new node's place below its source node
+
+
+def _shader_values(image, values, encoding):
+    """``values`` (read_exemplar's) as the shader reads them, (H, W, 3): scene-linear colour or
+    data; ``ValueError`` for what the precomputation cannot take."""
+    if values.shape[2] == 4:
+        raise ValueError(f"Image '{image.name}' has a varying alpha; Break Repetition handles "
+                         "opaque textures only")
+    if not encoding.is_float and not encoding.is_data:
+        if encoding.colorspace != "sRGB":
+            raise ValueError(f"Image '{image.name}' is in colour space '{encoding.colorspace}'; "
+                             "set it to sRGB or Non-Color, or use a float image")
+        values = srgb_to_linear(values).astype(np.float32)
+    return values
+
+
+def _precompute(maps, progress=None):
+    """Each map's ``Gaussianized`` (the job's work: numpy only)."""
+    report = texsynth.Progress(progress)
+    out = []
+    for n, (_, values) in enumerate(maps):
+        report(n / len(maps), f"Gaussianising map {n + 1} of {len(maps)}")
+        out.append(gaussianize(values))
+    report(1.0, "Done")
+    return out
+
+
+def _padded(g):
+    """The Gaussian texture as (H, W, 4) RGBA for Blender, channels beyond the map's at 1/2 (they
+    blend to 1/2 and their table rows are zero), and the table as (ROWS, L, 4)."""
+    h, w, c = g.gaussian.shape
+    gaussian = np.full((h, w, 4), 0.5, np.float32)
+    gaussian[:, :, :c] = g.gaussian
+    gaussian[:, :, 3] = 1.0
+    rows, size = norepeat_nodes.ROWS, g.lut.shape[1]
+    table = np.zeros((rows, size, 4), np.float32)
+    table[:c, :, :3] = g.lut if c == 3 else np.repeat(g.lut, 3, axis=2)
+    table[:, :, 3] = 1.0
+    return gaussian, table
+
+
+def _float_image(name, rgba, flip):
+    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4): top row first when ``flip``,
+    else Blender's bottom-first row order."""
+    h, w = rgba.shape[:2]
+    image = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.alpha_mode = "NONE"
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1] if flip else rgba).ravel())
+    image.pack()
+    return image
+
+
+class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
+    """Make the active Image Texture node's texture never repeat at render time (the other
+    selected Image Texture nodes follow with the same cells): new images and node groups, the
+    originals kept"""
+
+    bl_idname = "texsynth.break_repetition"
+    bl_label = "Break Repetition"
+    bl_options = {"REGISTER", "UNDO"}
+
+    mode: bpy.props.EnumProperty(name="Mode", items=MODES, default="TILING_AND_BLENDING",
+                                 options={"SKIP_SAVE"})
+    scale: bpy.props.FloatProperty(
+        name="Scale", default=GRID_SCALE, min=0.5, max=64.0, options={"SKIP_SAVE"},
+        description="Triangle-grid cells per texture tile: larger gives smaller patches")
+    seed: bpy.props.IntProperty(name="Seed", min=0, default=0, options={"SKIP_SAVE"},
+                                description="Picks the random offsets")
+
+    def prepare(self, context):
+        """Check every map and copy it out of Blender; raises ``ValueError``."""
+        src = source.find_source(context)
+        tree = bpy.data.materials[src.material].node_tree
+        nodes = [tree.nodes[src.node]] + source.follower_nodes(context, src)
+        budget_need = 0.0
+        for node in nodes:
+            image = node.image
+            if image.source not in pixels.SUPPORTED_SOURCES:
+                raise ValueError(f"Image '{image.name}' is a {image.source.lower()}; only "
+                                 "single still images can be made not to repeat")
+            w, h = image.size
+            budget_need = max(budget_need, predict_memory((h, w, 3)) + 32.0 * w * h)
+        texsynth.validation.check_memory(budget_need, "Break Repetition",
+                                         "use smaller images")
+        maps = []
+        for node in nodes:
+            values, encoding = pixels.read_exemplar(node.image)
+            if min(values.shape[:2]) < 2:
+                raise ValueError(f"Image '{node.image.name}' is {values.shape[1]} x "
+                                 f"{values.shape[0]} pixels; it needs at least 2 x 2")
+            maps.append((node.name, _shader_values(node.image, values, encoding)))
+        return Job(_precompute, maps), (src, [n.name for n in nodes])
+
+    def make(self, result, plan):
+        src, names = plan
+        tree, active = source.source_node(src)
+        if tree is None:
+            raise ValueError(f"Node '{src.node}' of material '{src.material}' is gone")
+        vector = next((link.from_socket for link in tree.links
+                       if link.to_node == active and link.to_socket.name == "Vector"), None)
+        x, y = active.location.x - 200.0, active.location.y
+        if vector is None:  # the image node's own default: the active UV map
+            coords = tree.nodes.new("ShaderNodeUVMap")
+            coords.location = (x - 200.0, y)
+            vector = coords.outputs["UV"]
+        scale, seed = tree.nodes.new("ShaderNodeValue"), tree.nodes.new("ShaderNodeValue")
+        for node, label, value, dy in ((scale, "Scale", self.scale, 0.0),
+                                       (seed, "Seed", float(self.seed), -100.0)):
+            node.label = f"TexSynth {label}"
+            node.outputs[0].default_value = value
+            node.location = (x, y - GAP + dy)
+        made = []
+        for name, g in zip(names, result, strict=True):
+            node = tree.nodes[name]
+            stem = node.image.name.rsplit(".", 1)[0]
+            gaussian, table = _padded(g)
+            images = (_float_image(f"{stem}_{SUFFIXES[0]}", gaussian, flip=True),
+                      _float_image(f"{stem}_{SUFFIXES[1]}", table, flip=False))
+            group = norepeat_nodes.map_group(f"TexSynth T&B {stem}", *images,
+                                             node.interpolation)
+            made.append(self._place(tree, node, group, vector, scale, seed))
+        for node in tree.nodes:
+            node.select = False
+        made[0].select = True
+        tree.nodes.active = made[0]
+        return (f"Break Repetition: {len(made)} map(s) tiled and blended: "
+                + ", ".join(f"'{n.node_tree.name}'" for n in made))
+
+    @staticmethod
+    def _place(tree, source_node, group, vector, scale, seed):
+        """A group node for ``group`` below ``source_node``, taking over its outgoing links."""
+        node = tree.nodes.new("ShaderNodeGroup")
+        node.node_tree = group
+        node.parent = source_node.parent
+        node.location = (source_node.location.x, source_node.location.y - GAP)
+        tree.links.new(vector, node.inputs["Vector"])
+        tree.links.new(scale.outputs[0], node.inputs["Scale"])
+        tree.links.new(seed.outputs[0], node.inputs["Seed"])
+        for link in list(tree.links):
+            if link.from_node == source_node and link.from_socket.name in ("Color", "Alpha"):
+                tree.links.new(node.outputs[link.from_socket.name], link.to_socket)
+        return node
+
+
+classes = (TEXSYNTH_OT_break_repetition,)
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -1,0 +1,17 @@
+"""Render-time anti-repetition: what a renderer needs so that a texture never repeats.
+
+- :mod:`.gaussian`: the Gaussianised texture (PCA colour when asked) and its inverse table
+  (Heitz & Neyret 2018; Deliot & Heitz 2019; Burley 2019's truncated Gaussian);
+- :mod:`.blend`: tiling and blending itself in numpy (the triangle grid, the hashed vertex
+  offsets, the variance-preserving blend, the look-up), the reference for the Blender node group
+  and a writer of never-repeating images for any engine;
+- :mod:`.measure`: how much a rendered surface still repeats.
+"""
+
+from .blend import GRID_SCALE, predict_blend_memory, tile_and_blend, triangle_grid, vertex_offsets
+from .gaussian import Gaussianized, gaussianize, predict_memory
+from .measure import period_correlation
+
+__all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend",
+           "predict_blend_memory", "triangle_grid", "vertex_offsets", "period_correlation",
+           "GRID_SCALE"]
