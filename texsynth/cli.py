@@ -284,13 +284,12 @@ def _write_all(args, result, positions, maps) -> None:
 def run_synthesize(args, bar: Bar) -> None:
     params = method_params(args)
     width, height = args.size
-    outputs = [args.output, *_map_outputs(args.output, args.maps)]
-    for path in outputs:
-        _check_output(path, [args.photo, *args.maps])
     if args.maps and not get_method(args.method).positions:
         copying = ", ".join(m.name for m in methods() if m.positions)
         raise CliError(f"--maps: --method {args.method} does not copy photo pixels, so other "
                        f"maps cannot follow it; use one of {copying}", 2)
+    for path in [args.output, *_map_outputs(args.output, args.maps)]:
+        _check_output(path, [args.photo, *args.maps])
     photo = _read(args.photo)
     maps = _read_maps(args.maps, photo.shape)
     if args.maps:
