@@ -182,3 +182,12 @@ def test_the_pip_package_is_the_core_with_the_extensions_version():
     assert project["project"]["scripts"]["texsynth"] == "texsynth.cli:main"
     assert project["tool"]["setuptools"]["packages"]["find"]["include"] == ["texsynth",
                                                                             "texsynth.*"]
+
+
+def test_a_camera_jpeg_is_read_through_pillow(tmp_path, capsys):
+    pil = pytest.importorskip("PIL.Image")
+    path = tmp_path / "IMG_0001.jpg"
+    pixels = np.rint(ramp_photo((72, 88)) * 255).astype(np.uint8)
+    pil.fromarray(pixels).save(path, quality=95)
+    code, _, _ = _run(capsys, "-q", "tile", path, "-o", tmp_path / "tile.png")
+    assert code == 0 and read_png(tmp_path / "tile.png").shape == (72, 88, 3)
