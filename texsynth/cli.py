@@ -377,6 +377,8 @@ def run_methods(args, bar: Bar) -> None:
 
 def run_batch(args, bar: Bar) -> None:
     params = method_params(args)
+    if args.workers is not None and args.workers < 1:
+        raise CliError(f"--workers: at least 1 worker process, got {args.workers}", 2)
     defaults = batch_module.Defaults(
         operations=tuple(args.operation or ("synthesize",)), method=args.method,
         size=args.size, seed=args.seed, params=params, band=args.band, format=args.format,

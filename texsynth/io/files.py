@@ -103,7 +103,7 @@ def encode(image: np.ndarray, from_linear: bool, to_linear: bool) -> np.ndarray:
     Examples
     --------
     >>> a = np.full((1, 1, 4), 0.5, np.float32)
-    >>> encode(a, from_linear=False, to_linear=True).round(3).ravel().tolist()
+    >>> [round(float(v), 3) for v in encode(a, from_linear=False, to_linear=True).ravel()]
     [0.214, 0.214, 0.214, 0.5]
     """
     if from_linear == to_linear:
