@@ -31,6 +31,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import json
+import logging
 import os
 import time
 from collections.abc import Callable
@@ -344,7 +345,8 @@ def _submit(todo, summary, client, scheduler, workers, report) -> None:
     cluster = None
     if client is None and scheduler is None:
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                               processes=True, dashboard_address=None)
+                               processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)  # the summary says what happened
     own = client is None
     client = client or Client(cluster if cluster is not None else scheduler)
     try:

@@ -230,13 +230,17 @@ def _read(path: Path):
 
 
 def _check_output(path: Path, inputs: list[Path]) -> None:
-    """Before any work: the suffix, not an input, and a folder that can be written (made)."""
+    """Before reading anything: the suffix, and not an input."""
     if path.suffix.lower() not in SUFFIXES:
         raise CliError(f"-o {path}: the output's suffix must be .png or .exr", 2)
     resolved = path.resolve()
     for source in inputs:
         if source.resolve() == resolved:
             raise CliError(f"-o {path}: would overwrite the input {source}", 2)
+
+
+def _make_folder(path: Path) -> None:
+    """After the inputs were read, before the work: the output's folder, made and writable."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
@@ -292,6 +296,7 @@ def run_synthesize(args, bar: Bar) -> None:
         _check_output(path, [args.photo, *args.maps])
     photo = _read(args.photo)
     maps = _read_maps(args.maps, photo.shape)
+    _make_folder(args.output)
     if args.maps:
         result, positions = synthesize_positions(photo, width, height, method=args.method,
                                                  seed=args.seed, progress=bar, **params)
@@ -308,6 +313,7 @@ def run_tile(args, bar: Bar) -> None:
         _check_output(path, [args.photo, *args.maps])
     photo = _read(args.photo)
     maps = _read_maps(args.maps, photo.shape)
+    _make_folder(args.output)
     result, positions = make_tileable_positions(photo, band=args.band, seed=args.seed,
                                                 progress=bar)
     bar.close()
@@ -347,6 +353,7 @@ def _json_default(value):
 def run_rectify(args, bar: Bar) -> None:
     _check_output(args.output, [args.photo])
     photo = _read(args.photo)
+    _make_folder(args.output)
     bar(0.0, "estimating the plane")
     plane, origin = _estimate(args, photo)
     bar(0.7, "rectifying")
