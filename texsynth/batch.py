@@ -358,7 +358,12 @@ def _submit(todo, summary, client, scheduler, workers, report) -> None:
                                    threads_per_worker=1, processes=True, dashboard_address=None,
                                    silence_logs=logging.ERROR)  # the summary says what happened
     own = client is None
-    client = client or Client(cluster if cluster is not None else scheduler)
+    if client is None:
+        try:
+            client = Client(cluster if cluster is not None else scheduler, timeout="20s")
+        except (OSError, TimeoutError) as error:
+            raise ConnectionError(f"{scheduler}: no Dask scheduler answers there "
+                                  f"({type(error).__name__})") from None
     summary.overhead += time.monotonic() - start
     try:
         futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"

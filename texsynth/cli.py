@@ -401,6 +401,8 @@ def run_batch(args, bar: Bar) -> None:
                                    progress=bar)
     except ImportError as error:
         raise CliError(f"batch needs Dask: pip install \"texsynth[batch]\" ({error})", 1) from None
+    except ConnectionError as error:
+        raise CliError(f"--scheduler {error}", 1) from None
     bar.close()
     print(summary.line())
     for failure in summary.failed:
