@@ -54,6 +54,8 @@ OPERATIONS = ("synthesize", "tile")
 PHOTO_SUFFIXES = (".png", ".exr", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
 #: The folder of the keys, inside the output folder.
 KEYS = ".texsynth"
+#: The Dask setting that makes worker processes hand freed memory back at once (see _submit).
+NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
 
 @dataclass(frozen=True)
@@ -351,9 +353,7 @@ def _submit(todo, summary, client, scheduler, workers, report) -> None:
         # Dask's nanny sets MALLOC_TRIM_THRESHOLD_ in its workers, so glibc hands freed memory
         # back at once and every fresh work array faults its pages in again: a task ran about
         # a third slower. The one-thread BLAS settings stay (the core uses its own pool).
-        environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ")
-                   .items() if k != "MALLOC_TRIM_THRESHOLD_"}
-        with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+        with dask.config.set({NO_TRIM: None}):  # None: not set (distributed.nanny)
             cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1,
                                    threads_per_worker=1, processes=True, dashboard_address=None,
                                    silence_logs=logging.ERROR)  # the summary says what happened
