@@ -285,8 +285,29 @@ def _write_key(output: str, job_key: str) -> None:
 # --- the task -------------------------------------------------------------------------------
 
 def run_job(job: Job) -> str:
-    """Do one job (on a Dask worker, or anywhere): ``"done"``, or ``"skipped"`` when its
-    outputs already carry its key. Exceptions propagate (Dask reports them as the task's)."""
+    """Do one job, on a Dask worker or anywhere.
+
+    Parameters
+    ----------
+    job : Job
+        From :func:`plan`.
+
+    Returns
+    -------
+    str
+        ``"done"``, or ``"skipped"`` when its outputs already carry its key (nothing is
+        written). Exceptions propagate: Dask reports them as the task's.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from texsynth.io import write_image
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> write_image(folder / "sand.png", np.random.default_rng(0).random((32, 32, 3)))
+    >>> (job,) = plan(folder, folder / "out", Defaults(size=(24, 24), method="heeger_bergen"))
+    >>> run_job(job), run_job(job)
+    ('done', 'skipped')
+    """
     job_key = key(job)
     if is_done(job, job_key):
         return "skipped"
@@ -321,12 +342,19 @@ def run_job(job: Job) -> str:
 def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         workers: int | None = None,
         progress: Callable[[float, str], object] | None = None) -> Summary:
-    """Run the jobs not done yet on Dask; the batch's :class:`Summary`.
+    """Run the jobs not done yet on Dask distributed; the batch's :class:`Summary`.
 
     ``client``: a ``dask.distributed.Client`` to use; else ``scheduler`` (``tcp://host:port``
     of a running ``dask scheduler``), else a local cluster of ``workers`` processes (default:
     one per core) with one thread each (the core's own thread pool uses the cores inside a
     task). The photos' and outputs' paths must be the same on every worker (a shared folder).
+    ``progress(fraction, message)`` hears of each finished task.
+
+    References
+    ----------
+    Dask distributed's resilience: a lost worker's tasks are recomputed on the others
+    (distributed.dask.org, "Resilience"); the futures interface (``Client.map``,
+    ``as_completed``).
     """
     start = time.monotonic()
     summary = Summary(total=len(jobs))
