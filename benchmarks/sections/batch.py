@@ -41,16 +41,16 @@ ROUNDS = 3
 
 
 def _photos(ctx, folder: Path) -> list[str]:
-    """``JOBS`` crops of the textures (the largest first), sRGB PNGs."""
+    """``JOBS`` top-centre crops of the textures (the largest first), sRGB PNGs."""
     big = sorted((t for t in ctx.textures if min(t.image.shape[:2]) >= PHOTO_SIDE),
                  key=lambda t: -t.image.size)
     sources = big[:JOBS] or [ctx.textures[0]]
     names = []
     for k in range(JOBS):
         texture = sources[k % len(sources)]
-        h, w = texture.image.shape[:2]
-        y, x = (h - PHOTO_SIDE) // 2 * (k // len(sources) % 2), (w - PHOTO_SIDE) // 2
-        crop = texture.image[y:y + PHOTO_SIDE, x:x + PHOTO_SIDE]
+        w = texture.image.shape[1]
+        x = (w - PHOTO_SIDE) // 2 + PHOTO_SIDE * (k // len(sources))  # repeats: further right
+        crop = texture.image[:PHOTO_SIDE, x % max(w - PHOTO_SIDE, 1):][:, :PHOTO_SIDE]
         if crop.shape[:2] != (PHOTO_SIDE, PHOTO_SIDE):  # the sample, smaller: tiled up
             crop = np.resize(crop, (PHOTO_SIDE, PHOTO_SIDE, 3))
         write_png(folder / f"p{k}.png", crop)
@@ -94,7 +94,7 @@ def _batch(photos: Path, out: Path) -> float:
 
 def run(ctx) -> str:
     try:
-        import distributed  # noqa: F401  (only asked whether it is there)
+        import distributed
     except ImportError:
         return "Skipped: Dask is not installed (`pip install \"dask[distributed]\"`)."
     env_root = str(Path(__file__).resolve().parents[2])
@@ -124,9 +124,10 @@ def run(ctx) -> str:
     median = {name: statistics.median(t) for name, t in times.items()}
     batch_rate = JOBS / median["texsynth batch (local cluster)"]
     lines = [
-        f"{JOBS} photos of {PHOTO_SIDE} x {PHOTO_SIDE} (central crops of: "
+        f"{JOBS} photos of {PHOTO_SIDE} x {PHOTO_SIDE} (top-centre crops of: "
         f"{', '.join(dict.fromkeys(names))}), each to a {SIDE} x {SIDE} tile with `{METHOD}`; "
-        f"{os.cpu_count()} cores; each way {ROUNDS} times, alternating (load average "
+        f"{os.cpu_count()} cores, Dask distributed {distributed.__version__}; each way "
+        f"{ROUNDS} times, alternating (load average "
         f"{min(loads):.1f}-{max(loads):.1f} at the starts). Run by `python -m benchmarks "
         "--no-install --only batch` (needs `dask[distributed]`).",
         "",
