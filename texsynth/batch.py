@@ -346,8 +346,9 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
 
     ``client``: a ``dask.distributed.Client`` to use; else ``scheduler`` (``tcp://host:port``
     of a running ``dask scheduler``), else a local cluster of ``workers`` processes (default:
-    one per core) with one thread each (the core's own thread pool uses the cores inside a
-    task). The photos' and outputs' paths must be the same on every worker (a shared folder).
+    :func:`default_workers`) with one thread each (the core's own thread pool uses the cores
+    inside a task). The photos' and outputs' paths must be the same on every worker (a shared
+    folder).
     ``progress(fraction, message)`` hears of each finished task.
 
     References
@@ -371,6 +372,17 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
     return summary
 
 
+def default_workers() -> int:
+    """Worker processes of a local cluster: one per 4 cores, at least one.
+
+    A task already uses every core through the core's thread pool (``blocks/parallel.py``). On
+    2 cores, 6 tasks on 2 worker processes took 1.35x as long as on one (24.7 s against
+    17.9 s, 256 x 256 ``multiscale_mrf``, load average 8-10); larger machines are untested:
+    ``--workers`` sets it.
+    """
+    return max(1, (os.cpu_count() or 1) // 4)
+
+
 def _submit(todo, summary, client, scheduler, workers, report) -> None:
     import dask
     from distributed import Client, LocalCluster, as_completed
@@ -382,7 +394,7 @@ def _submit(todo, summary, client, scheduler, workers, report) -> None:
         # back at once and every fresh work array faults its pages in again: a task ran about
         # 1.3x as long (medians of 4: 7.1 s against 5.5 s). The one-thread BLAS settings stay.
         with dask.config.set({NO_TRIM: None}):  # None: not set (distributed.nanny)
-            cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1,
+            cluster = LocalCluster(n_workers=workers or default_workers(),
                                    threads_per_worker=1, processes=True, dashboard_address=None,
                                    silence_logs=logging.ERROR)  # the summary says what happened
     own = client is None
