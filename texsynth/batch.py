@@ -376,7 +376,7 @@ def default_workers() -> int:
     """Worker processes of a local cluster: one per 4 cores, at least one.
 
     A task already uses every core through the core's thread pool (``blocks/parallel.py``). On
-    2 cores, 6 tasks on 2 worker processes took 1.35x as long as on one (24.7 s against
+    2 cores, 6 tasks on 2 worker processes took 1.38x as long as on one (24.7 s against
     17.9 s, 256 x 256 ``multiscale_mrf``, load average 8-10); larger machines are untested:
     ``--workers`` sets it.
     """
