@@ -66,6 +66,7 @@ def _command(*args: str) -> list[str]:
 #: figures, which makes every fresh work array fault its pages in: not how a script runs).
 _LOOP = """
 import sys, time
+from texsynth import batch
 jobs = batch.plan(sys.argv[1], sys.argv[2], batch.Defaults(size=({side}, {side}), method="{m}"))
 start = time.perf_counter()
 for job in jobs:
