@@ -11,10 +11,12 @@ from __future__ import annotations
 import numpy as np
 
 from .exr import read_exr, write_exr
+from .files import read_photo, write_image
 from .png import SIGNATURE as _PNG_SIGNATURE
 from .png import read_png, write_png
 
-__all__ = ["read_image", "read_exr", "write_exr", "read_png", "write_png"]
+__all__ = ["read_image", "read_exr", "write_exr", "read_png", "write_png", "read_photo",
+           "write_image"]
 
 _EXR_MAGIC = b"\x76\x2f\x31\x01"
 

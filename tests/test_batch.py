@@ -1,0 +1,137 @@
+"""texsynth batch: planning, the task, resume, and a batch that loses a worker process mid-way.
+
+The Dask tests skip cleanly when ``distributed`` is not installed (``dask[distributed]`` is in
+requirements-dev.txt).
+"""
+
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from texsynth import batch, cli
+from texsynth.io import read_png, write_png
+from texsynth.io.files import TEMP_PREFIX
+from texsynth.metrics import seam_ratio
+
+from _images import ramp_photo
+
+SEAM = (0.7, 1.4)  # two-sided, as in test_cli.py
+SIZE = 96
+
+
+def _photos(folder, count, side=64):
+    folder.mkdir(parents=True, exist_ok=True)
+    for k in range(count):
+        write_png(folder / f"photo{k}.png", ramp_photo((side, side + 8 * k), seed=k))
+    return folder
+
+
+def _leftovers(out):
+    return [p for p in out.rglob("*") if p.name.startswith(TEMP_PREFIX)]
+
+
+def _check_outputs(jobs):
+    for job in jobs:
+        for out in job.outputs:
+            image = read_png(out)
+            assert image.shape == (SIZE, SIZE, 3), out
+            assert SEAM[0] <= seam_ratio(image) <= SEAM[1], out
+
+
+def test_a_manifest_names_photos_maps_methods_sizes_and_seeds(tmp_path):
+    photos = _photos(tmp_path / "in", 2)
+    write_png(photos / "photo0_normal.png", ramp_photo((64, 64), seed=9))
+    (photos / "list.csv").write_text(
+        "photo,maps,operation,method,size,seed,params\n"
+        "photo0.png,photo0_normal.png,synthesize,multiscale_mrf,128x96,3,radius=2\n"
+        "photo1.png,,tile,,,5,\n")
+    jobs = batch.plan(photos / "list.csv", tmp_path / "out")
+    assert [(j.operation, j.width, j.height, j.seed, dict(j.params)) for j in jobs] == [
+        ("synthesize", 128, 96, 3, {"radius": 2}), ("tile", 1024, 1024, 5, {})]
+    assert len(jobs[0].outputs) == 2 and jobs[0].outputs[1].endswith(".png")
+
+
+@pytest.mark.parametrize("row, named", [
+    ("photo0.png,,synthesize,heeger_bergen,,,radius=2", "list.csv:2"),
+    ("photo0.png,,blur,,,,", "blur"),
+    ("photo0.png,,,,,x,", "list.csv:2"),
+    ("nothere.png,,,,,,", "nothere.png"),
+])
+def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, named):
+    photos = _photos(tmp_path / "in", 1)
+    (photos / "list.csv").write_text("photo,maps,operation,method,size,seed,params\n" + row)
+    with pytest.raises((ValueError, FileNotFoundError), match=named):
+        batch.plan(photos / "list.csv", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_task_is_done_once_and_then_skipped(tmp_path):
+    photos = _photos(tmp_path / "in", 1)
+    (job,) = batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE)))
+    assert batch.run_job(job) == "done"
+    first = os.stat(job.outputs[0]).st_mtime_ns
+    assert batch.run_job(job) == "skipped"
+    assert os.stat(job.outputs[0]).st_mtime_ns == first
+    _check_outputs([job])
+    write_png(photos / "photo0.png", ramp_photo((64, 64), seed=7))  # new content, new key
+    assert batch.run_job(job) == "done"
+
+
+def test_the_command_resumes_without_a_cluster(tmp_path, capsys):
+    photos = _photos(tmp_path / "in", 2)
+    for job in batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE))):
+        batch.run_job(job)
+    code = cli.main(["-q", "batch", str(photos), "-o", str(tmp_path / "out"), "--size",
+                     str(SIZE)])
+    assert code == 0 and "2 already done" in capsys.readouterr().out
+
+
+def test_a_batch_survives_a_killed_worker_and_a_rerun_rewrites_nothing(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    photos, out = _photos(tmp_path / "in", 6), tmp_path / "out"
+    jobs = batch.plan(photos, out, batch.Defaults(size=(SIZE, SIZE)))
+    killed = []
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        pids = client.run(os.getpid)
+
+        def kill_a_busy_worker_at_the_first_output():
+            while not list(out.glob("*.png")):
+                time.sleep(0.02)
+            busy = [a for a, keys in client.processing().items() if keys and a in pids]
+            os.kill(pids[busy[0]], signal.SIGKILL)
+            killed.append(busy[0])
+
+        killer = threading.Thread(target=kill_a_busy_worker_at_the_first_output, daemon=True)
+        killer.start()
+        start = time.monotonic()
+        summary = batch.run(jobs, client=client)
+        first = time.monotonic() - start
+        killer.join(5)
+    assert killed, "no worker was killed"
+    assert summary.done + summary.skipped == 6 and not summary.failed
+    _check_outputs(jobs)
+    assert not _leftovers(out)
+    written = {p: p.stat().st_mtime_ns for p in out.rglob("*") if p.is_file()}
+
+    start = time.monotonic()
+    again = batch.run(jobs)  # everything done: no cluster is started
+    assert again.skipped == 6 and again.done == 0
+    assert time.monotonic() - start < 0.25 * first
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*") if p.is_file()} == written
+
+
+def test_outputs_match_the_same_jobs_run_one_by_one(tmp_path):
+    """The batch's output is the task's: the same bits as the command line's synthesize."""
+    photos = _photos(tmp_path / "in", 1)
+    (job,) = batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE), seed=2))
+    batch.run_job(job)
+    single = tmp_path / "single.png"
+    assert cli.main(["-q", "synthesize", str(photos / "photo0.png"), "-o", str(single),
+                     "--size", str(SIZE), "--seed", "2"]) == 0
+    np.testing.assert_array_equal(read_png(single), read_png(job.outputs[0]))
