@@ -22,6 +22,36 @@ def test_seam_ratio_is_one_for_periodic_and_large_for_a_photo():
         metrics.seam_ratio(np.zeros((2, 9)))
 
 
+def periodic_bricks(courses=8, bricks=6, seed=0):
+    """A running-bond wall that tiles: courses of 16 rows, bricks of 32 columns, 4-pixel grey
+    joints, each brick its own shade, fine grain."""
+    rng = np.random.default_rng(seed)
+    i, j = np.mgrid[:16 * courses, :32 * bricks]
+    row, shifted = i // 16, j + (i // 16 % 2) * 16
+    shade = rng.uniform(0.3, 0.5, (courses, bricks))[row, shifted // 32 % bricks]
+    wall = np.where((i % 16 < 4) | (shifted % 32 < 4), 0.75, shade)
+    return (wall + rng.normal(0, 0.03, wall.shape)).astype(np.float32)
+
+
+@pytest.mark.parametrize("shift", [0, 2, 5, 9, 12])
+def test_seam_ratio_in_phase_reads_a_tiling_wall_as_tiling_wherever_its_wrap_falls(shift):
+    wall = np.roll(periodic_bricks(), (shift, 2 * shift), axis=(0, 1))
+    plain = metrics.seam_ratio(wall)
+    assert 0.9 <= metrics.seam_ratio_in_phase(wall) <= 1.1
+    # What the plain measure misreads: a wrap on a joint's edge (0, 12) or through the bricks.
+    assert not 0.9 <= plain <= 1.1
+
+
+@pytest.mark.parametrize("shift", [0, 2, 5, 9, 12])
+def test_seam_ratio_in_phase_still_sees_a_real_seam(shift):
+    wall = np.roll(periodic_bricks(), (shift, 2 * shift), axis=(0, 1))
+    shaded = wall + np.linspace(0, 0.15, wall.shape[0], dtype=np.float32)[:, None]
+    assert not 0.8 <= metrics.seam_ratio_in_phase(shaded) <= 1.2
+    assert metrics.seam_ratio_in_phase(ramp_photo((64, 64))) > 3
+    with pytest.raises(ValueError, match="3 x 3"):
+        metrics.seam_ratio_in_phase(np.zeros((9, 2)))
+
+
 def test_a_shifted_copy_is_a_copy():
     image = smooth_noise((64, 64), seed=1)
     shifted = np.roll(image, (11, 23), axis=(0, 1))
