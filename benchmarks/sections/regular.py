@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth import metrics
+from texsynth import make_tileable, metrics
 from texsynth.tileable import default_band
 
 from .. import jobs
@@ -29,6 +29,9 @@ TITLE = "make_tileable on regular photos: the crossing, and the seam ratio in ph
 CROSSES = 30
 #: Photos whose crossing is shown at full resolution.
 SHEETS = (photos.BRICKS, "nexuiz-textures/concrete_pavers.png", photos.SETTS, photos.CAMERA)
+#: Photos whose crossing is also shown for other seeds (run here, in this process): stones
+#: about as large as the band, where one seed's crossing says little about the next one's.
+SEEDED, SEEDS = (photos.SETTS, photos.CAMERA), (1, 2)
 
 
 def _keys(quick: bool) -> tuple[str, ...]:
@@ -90,6 +93,15 @@ def run(ctx) -> str:
                                       cell=photos.VIEW)
             pictures += [f"![{photos.label(key)}: the photo and make_tileable around the wrap's "
                          f"corner]({sheet})", ""]
+        if key.partition("@")[0] in SEEDED and not ctx.quick:
+            stem = Path(key.partition("@")[0]).stem
+            crops = [photos._corner(out)] + [photos._corner(make_tileable(image, seed=s))
+                                             for s in SEEDS]
+            sheet = ctx.contact_sheet(f"regular_{stem}_seeds.png",
+                                      [f"seed {s}" for s in (photos.SEED, *SEEDS)], [crops],
+                                      cell=photos.VIEW)
+            pictures += [f"![{photos.label(key)}: make_tileable around the wrap's corner, seeds "
+                         f"{photos.SEED}, {', '.join(map(str, SEEDS))}]({sheet})", ""]
     return "\n".join([
         "make_tileable (defaults, seed 0) on every large photo at its own size and on the 12 MP "
         "photo (see the photos section), each run in its own process: time, peak RSS and "
@@ -108,6 +120,9 @@ def run(ctx) -> str:
         *pictures,
         f"Full-resolution {photos.VIEW} x {photos.VIEW} crops around the corner where four "
         "tiles meet (the wrap's two seams cross in the middle): the photo as it is, and "
-        "make_tileable's result.",
+        "make_tileable's result; for the setts and the 12 MP photo also the seeds "
+        f"{', '.join(map(str, SEEDS))}: whether the crossing holds together (stones whole, "
+        "joints continuous) changes from seed to seed, so a change to the crossing is judged "
+        "on all three.",
         "",
     ])
