@@ -38,6 +38,9 @@ from texsynth.plane import (
 )
 from texsynth.plane.geometry import gradient
 
+#: A NaN or an overflow in the estimate is garbage on its way out (issue 27): an error here.
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
+
 
 @pytest.fixture(scope="module")
 def texture():
