@@ -45,10 +45,10 @@ def luminance(image) -> np.ndarray:
     return a[:, :, 0]
 
 
-def downsample(lum: np.ndarray) -> tuple[np.ndarray, int]:
-    """Block average (float64) by the integer factor that brings the longer side to
-    _ANALYSIS_SIDE."""
-    k = max(1, math.ceil(max(lum.shape) / _ANALYSIS_SIDE))
+def downsample(lum: np.ndarray, side: int = _ANALYSIS_SIDE) -> tuple[np.ndarray, int]:
+    """Block average (float64) by the integer factor k that brings the longer side to ``side``
+    at most, over the central crop of whole blocks; and k."""
+    k = max(1, math.ceil(max(lum.shape) / side))
     if k == 1:
         return lum.astype(np.float64), 1
     h, w = (lum.shape[0] // k) * k, (lum.shape[1] // k) * k
