@@ -214,6 +214,8 @@ class PlanePanel:
             column.label(text="A guess, not a measurement:", icon="ERROR")
             for reason in verdict.reasons:
                 column.label(text=reason)
+        elif not verdict.slant_measured:
+            box.label(text="No measurable slant: a frontal photo", icon="CHECKMARK")
         layout.prop(settings, "add_background")
         row = layout.row(align=True)
         row.operator("texsynth.align_camera", icon="CAMERA_DATA")

@@ -207,6 +207,7 @@ def _guess(scene, image="photo"):
 
 
 def _panel_labels(settings):
+    """The 3D View's Plane from Texture panel as drawn for ``settings`` (the scene's)."""
     from test_panels import _draw
     return _draw("TEXSYNTH_PT_plane_view3d")
 
@@ -226,6 +227,9 @@ def test_the_panel_says_when_the_estimate_is_a_guess_and_why():
     layout = _panel_labels(settings)
     assert "A guess, not a measurement:" not in layout.labels
     assert layout.drawn.count("texsynth.align_camera") == 1
+    assert "No measurable slant: a frontal photo" not in layout.labels
+    settings.slant = math.radians(0.5)  # measured to be frontal
+    assert "No measurable slant: a frontal photo" in _panel_labels(settings).labels
 
 
 def test_estimating_white_noise_stores_a_guess():

@@ -29,8 +29,11 @@ class Verdict:
 
     @property
     def summary(self) -> str:
-        """One line for a panel or a report: "Measured", or "Guess: " and the reasons."""
-        return "Guess: " + "; ".join(self.reasons) if self.guess else "Measured"
+        """One line for a panel or a report: "Measured" (a slant or a frontal view), or
+        "Guess: " and the reasons."""
+        if self.guess:
+            return "Guess: " + "; ".join(self.reasons)
+        return "Measured" if self.slant_measured else "Measured: frontal (no measurable slant)"
 
 
 def verdict(estimate) -> Verdict:
