@@ -12,9 +12,14 @@ align the camera, rectify. The work is the core's ``texsynth.plane``.
   ``texsynth.synthesize``.
 
 Align and rectify need a stored estimate: until there is one their ``poll()`` is False and says
-so. Every check happens before anything changes: on error the file is as it was. The estimate
-works on a copy of the photo reduced to at most 320 pixels on its longer side, so it is quick
-on a photo of any size and the operators run synchronously (no :class:`job.JobOperator`).
+so. An estimate that is a guess (``texsynth.plane.verdict``: confidence under 0.5) is said to be
+one, and why, by the estimate's report and the panel; align and rectify then warn, ask first
+when run from the interface, and offer ``frontal`` (slant 0: the photo taken square to the
+surface) instead of applying the guessed slant.
+
+Every check happens before anything changes: on error the file is as it was. The estimate works
+on a copy of the photo reduced to at most 320 pixels on its longer side, so it is quick on a
+photo of any size and the operators run synchronously (no :class:`job.JobOperator`).
 """
 
 import math
@@ -74,21 +79,32 @@ def file_focal_px(image) -> float | None:
     return estimate.focal_px_from_file(path) if os.path.isfile(path) else None
 
 
-def stored_estimate(settings) -> estimate.PlaneEstimate:
-    """The scene's estimate as the core's record (uncertainties are not needed downstream)."""
+def stored_estimate(settings, frontal: bool = False) -> estimate.PlaneEstimate:
+    """The scene's estimate as the core's record; ``frontal``: seen square on (slant 0)."""
     if not settings.has_estimate:
         raise ValueError("No plane estimate yet: run Estimate Plane first")
     slant, tilt = math.degrees(settings.slant), math.degrees(settings.tilt) % 360.0
     if not 0.0 <= slant < 90.0:
         raise ValueError(f"Slant must be in [0, 90) degrees, it is {slant:.1f}")
+    if frontal:
+        slant = tilt = 0.0
     normal = estimate.normal_from_angles(slant, tilt)
     focal = settings.focal_px if settings.focal_px > 0 else None
     return estimate.PlaneEstimate(
         slant=slant, tilt=tilt, normal=tuple(float(c) for c in normal), focal_px=focal,
-        focal_estimated=settings.focal_estimated, tilt_ambiguous_180=settings.tilt_ambiguous,
-        confidence=settings.confidence, slant_uncertainty=0.0, tilt_uncertainty=0.0,
+        focal_estimated=settings.focal_estimated,
+        tilt_ambiguous_180=settings.tilt_ambiguous or frontal, confidence=settings.confidence,
+        slant_uncertainty=math.degrees(settings.slant_uncertainty),
+        tilt_uncertainty=math.degrees(settings.tilt_uncertainty),
         normal_uncertainty=math.degrees(settings.uncertainty), focal_uncertainty=None,
-        anisotropy=0.0, method="stored", image_size=(settings.image_width, settings.image_height))
+        anisotropy=settings.anisotropy, method="stored",
+        image_size=(settings.image_width, settings.image_height),
+        line_families=settings.line_families)
+
+
+def judged(settings) -> estimate.Verdict:
+    """The stored estimate's verdict: a measurement or a guess, and why."""
+    return estimate.verdict(stored_estimate(settings))
 
 
 def _fail(operator, error):
@@ -97,7 +113,13 @@ def _fail(operator, error):
 
 
 class NeedsEstimate:
-    """Mixin: ``poll()`` is False, saying why, until the scene holds a plane estimate."""
+    """Mixin: ``poll()`` is False, saying why, until the scene holds a plane estimate. On a
+    guess, ``invoke`` asks first (the reasons, and ``frontal`` to tick) and ``execute`` warns."""
+
+    frontal: bpy.props.BoolProperty(
+        name="Treat as Frontal", options={"SKIP_SAVE"},
+        description="Ignore the estimated slant and tilt: the photo was taken square to the "
+                    "surface (slant 0). Offered when the estimate is a guess")
 
     @classmethod
     def poll(cls, context):
@@ -107,6 +129,36 @@ class NeedsEstimate:
             cls.poll_message_set(str(error))
             return False
         return True
+
+    def invoke(self, context, event):
+        if judged(context.scene.texsynth.plane).guess and not self.frontal:
+            return context.window_manager.invoke_props_dialog(
+                self, width=420, title=f"{self.bl_label}: the estimate is a guess")
+        return self.execute(context)
+
+    def draw(self, context):
+        settings = context.scene.texsynth.plane
+        layout = self.layout
+        try:
+            verdict = judged(settings)
+        except ValueError:
+            verdict = None
+        if verdict is not None and verdict.guess:
+            column = layout.column(align=True)
+            column.label(text=f"The estimate is a guess (confidence {settings.confidence:.2f}):",
+                         icon="ERROR")
+            for reason in verdict.reasons:
+                column.label(text=reason)
+        layout.prop(self, "frontal")
+
+    def warn_on_guess(self, settings, what: str) -> None:
+        """A warning report when the stored estimate is a guess applied as it is."""
+        verdict = judged(settings)
+        if verdict.guess and not self.frontal:
+            why = "; ".join(verdict.reasons)
+            self.report({"WARNING"}, f"{what} a guessed slant of "
+                                     f"{math.degrees(settings.slant):.0f}° ({why}); run again "
+                                     "with 'Treat as Frontal' for slant 0")
 
 
 # --- operators --------------------------------------------------------------------------------
@@ -153,13 +205,19 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         settings.tilt_ambiguous = result.tilt_ambiguous_180
         settings.confidence = result.confidence
         settings.uncertainty = math.radians(min(result.normal_uncertainty, 90.0))
+        settings.slant_uncertainty = math.radians(min(result.slant_uncertainty, 90.0))
+        settings.tilt_uncertainty = math.radians(min(result.tilt_uncertainty, 180.0))
+        settings.anisotropy = result.anisotropy
+        settings.line_families = result.line_families
         where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
         lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \
             if result.focal_px else ", orthographic"
         either = " (or +180)" if result.tilt_ambiguous_180 else ""
-        self.report({"INFO"}, f"'{image.name}': slant {result.slant:.1f}°, tilt "
-                              f"{result.tilt:.1f}°{either}{lens}, confidence "
-                              f"{result.confidence:.2f}")
+        verdict = estimate.verdict(result)
+        self.report({"WARNING"} if verdict.guess else {"INFO"},
+                    f"'{image.name}': slant {result.slant:.1f}°, tilt {result.tilt:.1f}°{either}"
+                    f"{lens}, confidence {result.confidence:.2f}"
+                    + (f". {verdict.summary}" if verdict.guess else ""))
         return {"FINISHED"}
 
 
@@ -174,7 +232,7 @@ class TEXSYNTH_OT_align_camera(NeedsEstimate, bpy.types.Operator):
         scene = context.scene
         settings = scene.texsynth.plane
         try:
-            est = stored_estimate(settings)
+            est = stored_estimate(settings, self.frontal)
             photo = bpy.data.images.get(settings.image) if settings.add_background else None
             if settings.add_background and photo is None:
                 raise ValueError(f"The estimated photo '{settings.image}' is gone: turn off "
@@ -216,8 +274,10 @@ class TEXSYNTH_OT_align_camera(NeedsEstimate, bpy.types.Operator):
                 background = data.background_images.new()
                 background.image = photo
             background.frame_method = "FIT"
+        self.warn_on_guess(settings, "The camera is turned by")
         self.report({"INFO"}, f"Camera '{camera.name}' at {distance:.2f} from "
-                              f"'{target.name if target else 'world origin'}'")
+                              f"'{target.name if target else 'world origin'}'"
+                              + (", square to it (treated as frontal)" if self.frontal else ""))
         return {"FINISHED"}
 
 
@@ -235,7 +295,7 @@ class TEXSYNTH_OT_rectify(NeedsEstimate, bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.texsynth.plane
         try:
-            est = stored_estimate(settings)
+            est = stored_estimate(settings, self.frontal)
             name = self.image or settings.image
             if name not in bpy.data.images:
                 raise ValueError(f"No image named '{name}'")
@@ -250,8 +310,10 @@ class TEXSYNTH_OT_rectify(NeedsEstimate, bpy.types.Operator):
         space = getattr(context, "space_data", None)
         if space is not None and space.type == "IMAGE_EDITOR":
             space.image = result
+        self.warn_on_guess(settings, "Rectified with")
         self.report({"INFO"}, f"Rectified '{name}' into '{result.name}' "
-                              f"({result.size[0]} x {result.size[1]})")
+                              f"({result.size[0]} x {result.size[1]})"
+                              + (" as a frontal photo" if self.frontal else ""))
         return {"FINISHED"}
 
 

@@ -23,7 +23,7 @@ import functools
 import bpy
 
 from .. import texsynth
-from . import composite, norepeat, output, properties, source
+from . import composite, estimate, norepeat, output, properties, source
 
 
 class SidebarPanel:
@@ -224,11 +224,26 @@ class PlanePanel:
                                                     properties.FOCAL_SOURCES)[settings.focal_source],
                   icon="CAMERA_DATA")
         box.prop(settings, "confidence")
+        verdict = estimate.judged(settings)
+        guess = verdict.guess
+        if guess:  # say plainly that it is a guess, and why (issue 27)
+            column = box.column(align=True)
+            column.label(text="A guess, not a measurement:", icon="ERROR")
+            for reason in verdict.reasons:
+                column.label(text=reason)
+        elif not verdict.slant_measured:
+            box.label(text="No measurable slant: a frontal photo", icon="CHECKMARK")
         layout.prop(settings, "add_background")
-        layout.operator("texsynth.align_camera", icon="CAMERA_DATA")
+        row = layout.row(align=True)
+        row.operator("texsynth.align_camera", icon="CAMERA_DATA")
+        if guess:
+            row.operator("texsynth.align_camera", text="As Frontal").frontal = True
         column = layout.column(align=True)
         column.label(text="Rectify, then synthesize:")
-        column.operator("texsynth.rectify", icon="IMAGE_PLANE")
+        row = column.row(align=True)
+        row.operator("texsynth.rectify", icon="IMAGE_PLANE")
+        if guess:
+            row.operator("texsynth.rectify", text="As Frontal").frontal = True
         if settings.rectified in bpy.data.images:
             op = column.operator("texsynth.synthesize", icon="TEXTURE",
                                  text=f"Synthesize from '{settings.rectified}'")

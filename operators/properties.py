@@ -313,6 +313,19 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
     uncertainty: bpy.props.FloatProperty(
         name="Uncertainty", subtype="ANGLE", min=0.0,
         description="One-sigma uncertainty of the plane normal")
+    slant_uncertainty: bpy.props.FloatProperty(
+        name="Slant Uncertainty", subtype="ANGLE", min=0.0,
+        description="One-sigma uncertainty of the slant")
+    tilt_uncertainty: bpy.props.FloatProperty(
+        name="Tilt Uncertainty", subtype="ANGLE", min=0.0,
+        description="One-sigma uncertainty of the tilt")
+    anisotropy: bpy.props.FloatProperty(
+        name="Anisotropy", min=0.0,
+        description="The texture's own directionality left after the fit (beyond 1 its grain "
+                    "reads as slant)")
+    line_families: bpy.props.IntProperty(
+        name="Line Families", min=0, max=2,
+        description="Families of straight lines (joints, edges) the estimate used")
     rectified: bpy.props.StringProperty(name="Rectified Image",
                                         description="Name of the last rectified image")
 

@@ -24,8 +24,10 @@ def noise_texture(seed=0, n=512, band=(0.03, 0.2)):
     return ndi.spline_filter(t / t.std() * 0.15, order=3, mode="grid-wrap")
 
 
-def photograph(texture, slant, tilt, focal=None, size=SIZE, supersample=2):
-    """A size x size view of the textured plane; focal None: orthographic."""
+def photograph(texture, slant, tilt, focal=None, size=SIZE, supersample=2, sky=None):
+    """A size x size view of the textured plane; focal None: orthographic. ``sky``: the value
+    of pixels whose ray misses the plane (beyond its horizon), as the benchmark's renders show
+    a black world there; None: the plane's equation is used behind the camera too."""
     n = np.array([math.sin(math.radians(slant)) * math.cos(math.radians(tilt)),
                   math.sin(math.radians(slant)) * math.sin(math.radians(tilt)),
                   math.cos(math.radians(slant))])
@@ -48,8 +50,11 @@ def photograph(texture, slant, tilt, focal=None, size=SIZE, supersample=2):
                 point = ray * t[..., None]
             point = point - np.array([0.0, 0.0, -depth])
             u, v = point @ e1, point @ e2
-            out += ndi.map_coordinates(texture, [v, u], order=3, mode="grid-wrap",
+            seen = ndi.map_coordinates(texture, [v, u], order=3, mode="grid-wrap",
                                        prefilter=False)
+            if sky is not None and focal is not None:
+                seen = np.where(t > 0, seen, sky - 0.5)
+            out += seen
     return (out / supersample ** 2 + 0.5).astype(np.float32)
 
 

@@ -35,6 +35,9 @@ from _exif import (
 import texsynth
 from texsynth.plane import focal_px_from_file
 
+#: A NaN or an overflow in the estimate is garbage on its way out (issue 27): an error here.
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
+
 
 def test_focal_plane_resolution_gives_the_focal_length_of_the_stored_image(tmp_path):
     # A 4.2 mm lens on a 5.6 mm wide sensor recording 4000 px: f = 3000 px; the file holds the

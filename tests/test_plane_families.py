@@ -10,6 +10,9 @@ from texsynth.plane.combine import _ORTHOGONAL_Z, orthogonality_chi2
 from texsynth.plane.geometry import gradient
 from texsynth.plane.search import minimize
 
+#: A NaN or an overflow in the estimate is garbage on its way out (issue 27): an error here.
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
+
 
 def _families(photo):
     small, _ = spectra.downsample(spectra.luminance(photo))

@@ -192,3 +192,76 @@ def test_align_and_rectify_are_greyed_out_until_there_is_an_estimate(operator):
 def test_the_moments_baseline_is_not_offered():
     items = bpy.context.scene.texsynth.plane.bl_rna.properties["method"].enum_items
     assert [i.identifier for i in items] == ["AUTO", "ISOTROPY"]
+
+
+# --- a guess is said to be one (issue 27) ------------------------------------------------------
+
+
+def _guess(scene, image="photo"):
+    """A frontal photo without a cue as the estimate reads it: 25 deg, as uncertain, no lines."""
+    settings = _stored(scene, slant=25.0, tilt=70.0, focal=0.0, image=image)
+    settings.confidence = 0.02
+    settings.slant_uncertainty, settings.tilt_uncertainty = math.radians(15.0), math.pi
+    settings.line_families, settings.anisotropy = 0, 1.4
+    return settings
+
+
+def _panel_labels(settings):
+    """The 3D View's Plane from Texture panel as drawn for ``settings`` (the scene's)."""
+    from test_panels import _draw
+    return _draw("TEXSYNTH_PT_plane_view3d")
+
+
+def test_the_panel_says_when_the_estimate_is_a_guess_and_why():
+    settings = _guess(bpy.context.scene)
+    layout = _panel_labels(settings)
+    assert "A guess, not a measurement:" in layout.labels
+    said = " / ".join(layout.labels)
+    assert "no measurable slant" in said and "no straight lines" in said
+    assert "texture anisotropic" in said
+    # Align and rectify are offered as they are and as a frontal photo.
+    assert layout.drawn.count("texsynth.align_camera") == 2
+    assert layout.drawn.count("texsynth.rectify") == 2
+    settings.confidence, settings.line_families = 0.9, 2
+    settings.slant_uncertainty = math.radians(3.0)
+    layout = _panel_labels(settings)
+    assert "A guess, not a measurement:" not in layout.labels
+    assert layout.drawn.count("texsynth.align_camera") == 1
+    assert "No measurable slant: a frontal photo" not in layout.labels
+    settings.slant = math.radians(0.5)  # measured to be frontal
+    assert "No measurable slant: a frontal photo" in _panel_labels(settings).labels
+
+
+def test_estimating_white_noise_stores_a_guess():
+    """No plane cue at all: the estimate is stored, and what is stored says it is a guess."""
+    generated_image(np.random.default_rng(1).random((128, 128, 3)).astype(np.float32),
+                    name="photo")
+    assert bpy.ops.texsynth.estimate_plane(image="photo") == {"FINISHED"}
+    settings = bpy.context.scene.texsynth.plane
+    assert settings.confidence < 0.5 and settings.line_families == 0
+    assert "A guess, not a measurement:" in _panel_labels(settings).labels
+
+
+@pytest.mark.parametrize("frontal", [False, True])
+def test_align_camera_applies_a_guess_only_unless_told_to_treat_the_photo_as_frontal(frontal):
+    scene = bpy.context.scene
+    settings = _guess(scene)
+    settings.add_background = False
+    before = _values(settings)
+    assert bpy.ops.texsynth.align_camera(frontal=frontal) == {"FINISHED"}
+    rotation = np.array(scene.camera.matrix_world.to_3x3())
+    slant, _ = angles_from_normal(rotation.T @ np.array([0.0, 0.0, 1.0]))
+    assert slant == pytest.approx(0.0 if frontal else 25.0, abs=1e-3)
+    assert _values(settings) == before  # the estimate itself is kept
+
+
+def test_rectify_as_frontal_keeps_the_photo_as_it_is(photo_pixels):
+    image = _photo(photo_pixels)
+    _guess(bpy.context.scene)
+    assert bpy.ops.texsynth.rectify(frontal=True) == {"FINISHED"}
+    rectified = bpy.data.images[bpy.context.scene.texsynth.plane.rectified]
+    assert rectified != image and tuple(rectified.size) == tuple(image.size)
+    values = np.array(rectified.pixels[:]).reshape(256, 256, 4)[:, :, 0]
+    original = np.array(image.pixels[:]).reshape(256, 256, 4)[:, :, 0]
+    # The same pixels, softened by the rectifier's area filter (correlation 0.85 measured).
+    assert np.corrcoef(values.ravel(), original.ravel())[0, 1] > 0.8

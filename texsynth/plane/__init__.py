@@ -9,6 +9,7 @@ planes"). The modules, in the order a photo goes through them:
 - :mod:`~texsynth.plane.lines`: straight segments, their families and vanishing points;
 - :mod:`~texsynth.plane.fit`: the search, its uncertainty, :func:`estimate_plane`, combining the
   texture with the lines (:mod:`~texsynth.plane.combine`);
+- :mod:`~texsynth.plane.verdict`: a measurement or a guess, and why, in a user's words;
 - :mod:`~texsynth.plane.rectify`: the frontal view of the texture;
 - :mod:`~texsynth.plane.camera`: Blender's lens and sensor fit, the camera pose;
 - :mod:`~texsynth.plane.exif`: the focal length a camera wrote into the photo's file.
@@ -19,6 +20,7 @@ from .exif import focal_px_from_file
 from .fit import ESTIMATE_METHODS, PlaneEstimate, estimate_plane
 from .geometry import angles_from_normal, image_to_plane, normal_from_angles, plane_to_image
 from .rectify import rectify
+from .verdict import Verdict, verdict
 
 __all__ = [
     "PlaneEstimate",
@@ -33,4 +35,6 @@ __all__ = [
     "lens_from_focal_px",
     "focal_px_from_file",
     "ESTIMATE_METHODS",
+    "Verdict",
+    "verdict",
 ]

@@ -34,7 +34,7 @@ import scipy.optimize as opt
 from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
-from .lines import LineCost, families, horizon_through, segments, spaced_horizon
+from .lines import LineCost, families, fine_segments, horizon_through, spaced_horizon
 from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import (
     _ANALYSIS_SIDE,
@@ -359,7 +359,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                 else _fit_unknown_focal(crit, fine, side, v_spaced)
 
         fit = texture_fit()
-        found = families(segments(small, mask), side)
+        found = families(fine_segments(lum, small, k, mask), side)
         spaced = None
         if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is
@@ -438,6 +438,9 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
     errors of the stated sigmas; the tilt factor is 1 when tilt is only claimed mod 180.
+    Near frontal views the tilt may be off by more: by as much as moves the normal 8 deg
+    (sin(slant) sin(dtau / 2) = sin 4 deg: above 30 deg under a slant of 15.6, any tilt under
+    4 deg), so a precise frontal reading is not a guess for want of a receding direction.
     """
     s_slant = min(90.0, math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor))  # slant is in [0, 90)
     s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), floor))
@@ -445,7 +448,10 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
         s_slant = min(90.0, math.hypot(s_slant, _ISOTROPY_FLOOR))
     s_normal = math.hypot(s_slant, math.sin(math.radians(slant)) * s_tilt)
     confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)  # floor: _SYSTEMATIC or wider
-    confidence *= math.erf(30.0 / (s_tilt * math.sqrt(2.0)))
+    half = math.sin(math.radians(4.0)) / max(math.sin(math.radians(slant)), 1e-12)
+    if half < 1.0:  # else no tilt error moves the normal by 8 deg (slant under 4 deg)
+        tilt_ok = max(30.0, 2.0 * math.degrees(math.asin(half)))
+        confidence *= math.erf(tilt_ok / (s_tilt * math.sqrt(2.0)))
     n = normal_from_angles(slant, tilt)
     return PlaneEstimate(
         slant=float(slant), tilt=float(tilt), normal=tuple(float(c) for c in n),

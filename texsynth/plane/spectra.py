@@ -45,16 +45,25 @@ def luminance(image) -> np.ndarray:
     return a[:, :, 0]
 
 
-def downsample(lum: np.ndarray) -> tuple[np.ndarray, int]:
-    """Block average (float64) by the integer factor that brings the longer side to
-    _ANALYSIS_SIDE."""
-    k = max(1, math.ceil(max(lum.shape) / _ANALYSIS_SIDE))
+def downsample(lum: np.ndarray, side: int = _ANALYSIS_SIDE) -> tuple[np.ndarray, int]:
+    """Block average (float64) by the integer factor k that brings the longer side to ``side``
+    at most, over the central crop of whole blocks; and k."""
+    k = max(1, math.ceil(max(lum.shape) / side))
     if k == 1:
         return lum.astype(np.float64), 1
     h, w = (lum.shape[0] // k) * k, (lum.shape[1] // k) * k
     r0, c0 = (lum.shape[0] - h) // 2, (lum.shape[1] - w) // 2
     block = lum[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k)
     return block.mean(axis=(1, 3), dtype=np.float64), k
+
+
+def _box_mean(square: np.ndarray, size: int) -> np.ndarray:
+    """Local mean of a non-negative quantity over ``size`` x ``size`` pixels, never negative.
+
+    scipy's box filter is a running sum (each step adds the entering value and subtracts the
+    leaving one), so past a bright region its mean of zeros comes out as -1e-17 and its square
+    root as NaN (a render's or photo's black border after texture: issue 27)."""
+    return np.maximum(ndi.uniform_filter(square, size, mode="reflect"), 0.0)
 
 
 def texture_mask(lum: np.ndarray) -> np.ndarray:
@@ -68,13 +77,13 @@ def texture_mask(lum: np.ndarray) -> np.ndarray:
     """
     band = ndi.gaussian_filter(lum, 1.0, mode="reflect") - ndi.gaussian_filter(lum, 8.0,
                                                                                 mode="reflect")
-    local = np.sqrt(ndi.uniform_filter(band * band, 15, mode="reflect"))
+    local = np.sqrt(_box_mean(band * band, 15))
     ref = float(np.percentile(local, 90))
     scale = float(np.abs(lum).max())
     if not ref > 1e-4 * scale or scale == 0:
         raise ValueError("image has no texture (it is blank or nearly constant)")
     mean = ndi.uniform_filter(lum, 7, mode="reflect")
-    fine = np.sqrt(np.maximum(ndi.uniform_filter(lum * lum, 7, mode="reflect") - mean * mean, 0))
+    fine = np.sqrt(np.maximum(_box_mean(lum * lum, 7) - mean * mean, 0.0))
     flat = (fine <= 0.05 * float(np.percentile(fine, 90))).astype(np.float32)
     square = (ndi.uniform_filter(flat, 31, mode="nearest") > 0.999).astype(np.float32)
     large_flat = ndi.uniform_filter(square, 37, mode="constant") > 0  # the squares, grown by 3
