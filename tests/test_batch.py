@@ -8,10 +8,12 @@ import os
 import signal
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import texsynth
 from texsynth import batch, cli
 from texsynth.io import read_png, write_png
 from texsynth.io.files import TEMP_PREFIX
@@ -90,7 +92,17 @@ def test_the_command_resumes_without_a_cluster(tmp_path, capsys):
     assert code == 0 and "2 already done" in capsys.readouterr().out
 
 
-def test_a_batch_survives_a_killed_worker_and_a_rerun_rewrites_nothing(tmp_path):
+@pytest.fixture
+def workers_import_this_checkout(monkeypatch):
+    """Worker processes start with this process's sys.path, where pytest puts the checkout's
+    parent first (the checkout's root holds the Blender extension's ``__init__.py``): in a clone
+    named ``texsynth`` a fresh worker would import the extension as ``texsynth``, fail to
+    unpickle its first task and leave the batch waiting for workers."""
+    monkeypatch.syspath_prepend(str(Path(texsynth.__file__).resolve().parents[1]))
+
+
+def test_a_batch_survives_a_killed_worker_and_a_rerun_rewrites_nothing(
+        tmp_path, workers_import_this_checkout):
     distributed = pytest.importorskip("distributed")
     photos, out = _photos(tmp_path / "in", 6), tmp_path / "out"
     jobs = batch.plan(photos, out, batch.Defaults(size=(SIZE, SIZE)))
