@@ -36,10 +36,10 @@ Deviations, one line each:
   edges): edge defects inside the band (a ledge, a vignette) are replaced, never copied;
 - a source window more than half covered by one already used is not chosen again (no visible
   repeats along the band);
-- rows of the photo across an arm whose mean colour is like none of the rows farther than
-  ``band`` from its edges (a ledge or shadow along one edge: the brick wall photo's) are not
-  matched (Efros & Freeman weigh the whole overlap alike): a patch chosen to continue such a
-  row would squash a course of bricks; the cuts then replace them as they do the wrap;
+- rows of the band whose mean colour (across the arm) is like none of the rows farther than
+  ``band`` from the photo's edges are not matched (Efros & Freeman weigh the whole overlap
+  alike): on the brick wall photo a dark ledge along the bottom edge drew patches that
+  squashed a course to continue it, and the cuts kept pieces of it;
 - no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
   the photo's edges is unchanged, and every changed pixel is a photo pixel.
 """
@@ -288,6 +288,8 @@ def _arm(kept, kept_at, unlike, source, lay, rng, report, used):
     seam, d, c = lay.m + lay.top, lay.d, lay.c
     inner, outer = lay.m + c, lay.m + lay.b - c
     rows = np.arange(side)
+    # Only the band's own rows are left unmatched: the kept rows beyond it stay beside it.
+    unlike = unlike & (rows >= lay.m) & (rows < lay.m + lay.b)
     first, first_at = _layer(kept, kept_at, 0, seam + d,
                              (rows < inner)[:seam + d] & ~unlike[:seam + d],
                              rows[:seam + d] >= lay.m, source, lay, rng, report.span(0, 0.5),
