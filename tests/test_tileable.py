@@ -124,11 +124,11 @@ def test_the_band_is_photo_pixels_and_the_rest_is_the_photo(made):
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("edge", ["bottom", "right"])
 def test_a_ledge_along_an_edge_leaves_no_trace(edge, seed):
-    """The brick wall photo has a dark ledge along its bottom edge, reaching past the cut's
-    room into the rows the patches were matched to: patches chosen to continue it squashed a
-    course, and the cuts kept pieces of it (before the rows unlike the photo were left
-    unmatched: dark pixels left in 4 of these 8 runs). Here a ledge 18 pixels deep: the band
-    is 40, its outer quarter 10."""
+    """The brick wall photo has a dark ledge along its bottom edge, reaching into the band's
+    outer quarter, whose rows the patches are matched to: patches chosen to continue it
+    squashed a course, and the cuts kept pieces of it (before the band's rows unlike the
+    photo were left unmatched: dark pixels left in 4 of these 8 runs). Here a ledge 18
+    pixels deep: the band is 40, its outer quarter the 10 rows 10-20 from the edge."""
     photo = bricks(seed=seed)
     h, w = photo.shape[:2]
     ledge = (slice(h - 18, h), slice(None)) if edge == "bottom" else (slice(None),
