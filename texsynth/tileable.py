@@ -36,6 +36,10 @@ Deviations, one line each:
   edges): edge defects inside the band (a ledge, a vignette) are replaced, never copied;
 - a source window more than half covered by one already used is not chosen again (no visible
   repeats along the band);
+- rows of the band whose mean colour (across the arm) is like none of the rows farther than
+  ``band`` from the photo's edges are not matched (Efros & Freeman weigh the whole overlap
+  alike): on the brick wall photo a dark ledge along the bottom edge drew patches that
+  squashed a course to continue it, and the cuts kept pieces of it;
 - no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
   the photo's edges is unchanged, and every changed pixel is a photo pixel.
 """
@@ -70,6 +74,12 @@ COARSE = 32
 CANDIDATES = 4
 #: Efros & Freeman's error tolerance: candidates within (1 + TOLERANCE) x the best SSD.
 TOLERANCE = 0.1
+#: A row is unlike the photo when, in some channel, its mean colour is farther than this many
+#: robust standard deviations (1.4826 x the median absolute deviation of the inner rows'
+#: means) from every inner row's.
+UNLIKE = 1.5
+#: Fewest inner rows to judge by; with fewer, every row is matched.
+MIN_INNER = 8
 
 
 def default_band(shape) -> int:
@@ -211,6 +221,20 @@ class _Source:
         return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
 
 
+def _unlike(photo: np.ndarray, rows: np.ndarray, b: int) -> np.ndarray:
+    """Which of the ``rows`` of ``photo`` (h, w, C) have a mean colour like none of the inner
+    rows' (those farther than ``b`` from the edges): bool (len(rows),). An edge's ledge or
+    shadow is unlike them; a course of joints recurs inside and is not."""
+    mean = photo.mean(axis=1, dtype=np.float32)
+    inner = mean[b:len(photo) - b]
+    if len(inner) < MIN_INNER:
+        return np.zeros(len(rows), bool)
+    sigma = 1.4826 * np.median(np.abs(inner - np.median(inner, axis=0)), axis=0)
+    # Unlike every inner row: for each, farther than UNLIKE sigma in some channel.
+    far = np.abs(mean[rows][:, None] - inner[None]) > UNLIKE * sigma
+    return far.any(axis=2).all(axis=1)
+
+
 def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used):
     """One row of patches quilted along the arm over rows ``lo .. hi - 1`` of ``current``
     (side, length, C): each patch matched to ``current`` on the rows ``matched`` and to its
@@ -253,25 +277,29 @@ def _cut(a, b, lo, hi):
     return lo + min_error_path(e.T, closed=True)
 
 
-def _arm(kept, kept_at, source, lay, rng, report, used):
+def _arm(kept, kept_at, unlike, source, lay, rng, report, used):
     """One arm quilted: ``kept`` (side, length, C) is the photo across the arm (the seam
     between rows ``m + top - 1`` and ``m + top``, the band rows ``m .. m + b - 1``),
-    ``kept_at`` its positions. Two rows of patches: the first continues the photo before the
-    seam past it, the second the photo after the seam back over the first; they meet along
-    a cut in the middle of the band, and the photo along a cut on either side. Returns the
-    arm and its positions."""
+    ``kept_at`` its positions, ``unlike`` (side,) its rows left unmatched (:func:`_unlike`).
+    Two rows of patches: the first continues the photo before the seam past it, the second
+    the photo after the seam back over the first; they meet along a cut in the middle of the
+    band, and the photo along a cut on either side. Returns the arm and its positions."""
     side = len(kept)
     seam, d, c = lay.m + lay.top, lay.d, lay.c
     inner, outer = lay.m + c, lay.m + lay.b - c
     rows = np.arange(side)
-    first, first_at = _layer(kept, kept_at, 0, seam + d, rows[:seam + d] < inner,
+    # Only the band's own rows are left unmatched: the kept rows beyond it stay beside it.
+    unlike = unlike & (rows >= lay.m) & (rows < lay.m + lay.b)
+    first, first_at = _layer(kept, kept_at, 0, seam + d,
+                             (rows < inner)[:seam + d] & ~unlike[:seam + d],
                              rows[:seam + d] >= lay.m, source, lay, rng, report.span(0, 0.5),
                              used)
     current, current_at = kept.copy(), kept_at.copy()
     current[:seam + d], current_at[:seam + d] = first, first_at
     below = rows[seam - d:]
     second, second_at = _layer(current, current_at, seam - d, side,
-                               (below < seam + d) | (below >= outer), below < lay.m + lay.b,
+                               (below < seam + d) | ((below >= outer) & ~unlike[seam - d:]),
+                               below < lay.m + lay.b,
                                source, lay, rng, report.span(0.5, 0.95), used)
     current[seam - d:], current_at[seam - d:] = second, second_at
     top = _cut(first, kept, lay.m, inner)
@@ -427,7 +455,8 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     band_rows = slice(lay.m, lay.m + band)
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
     across = _Source(inside, coarse, lay.f, e, swap=False)
-    strip, at = _arm(a[rows], positions[rows], across, lay, rng, report.span(0.02, 0.5), used)
+    strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
+                     report.span(0.02, 0.5), used)
     out[rows[band_rows]] = strip[band_rows]
     positions[rows[band_rows]] = at[band_rows]
 
@@ -435,7 +464,8 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     down = _Source(inside.transpose(1, 0, 2),
                    None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
     strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
-                     down, lay, rng, report.span(0.5, 0.99), used)
+                     _unlike(a.transpose(1, 0, 2), cols, band), down, lay, rng,
+                     report.span(0.5, 0.99), used)
     out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
     positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
     if scale != 1.0:
