@@ -147,3 +147,31 @@ def test_outputs_match_the_same_jobs_run_one_by_one(tmp_path):
     assert cli.main(["-q", "synthesize", str(photos / "photo0.png"), "-o", str(single),
                      "--size", str(SIZE), "--seed", "2"]) == 0
     np.testing.assert_array_equal(read_png(single), read_png(job.outputs[0]))
+
+
+def test_a_task_run_again_after_its_worker_died_counts_once(tmp_path, monkeypatch):
+    """Dask runs a task again when the worker holding its result dies; as_completed then yields
+    it a second time, "skipped" (its outputs are there). The summary counts it once, as done."""
+    distributed = pytest.importorskip("distributed")
+    jobs = batch.plan(_photos(tmp_path / "in", 3), tmp_path / "out",
+                      batch.Defaults(size=(SIZE, SIZE)))
+
+    class Finished:
+        status = "finished"
+
+        def __init__(self, key, result):
+            self.key, self._result = key, result
+
+        def result(self):
+            return self._result
+
+    class Client:
+        def map(self, function, todo, key, pure):
+            self.futures = [Finished(k, "done") for k in key]
+            return self.futures
+
+    client = Client()
+    again = lambda futures: [*futures, Finished(futures[0].key, "skipped")]  # noqa: E731
+    monkeypatch.setattr(distributed, "as_completed", again)
+    summary = batch.run(jobs, client=client)
+    assert (summary.done, summary.skipped, summary.failed) == (3, 0, [])

@@ -409,16 +409,23 @@ def _submit(todo, summary, client, scheduler, workers, report) -> None:
         futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
                                                  for j in todo], pure=False)
         names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
+        # A task whose result died with its worker is run again and comes back a second time,
+        # "skipped" (its outputs are there): each task counts once, by its key, done if it was.
+        outcome = {}
         for future in as_completed(futures):
             name = names[future.key]
             if future.status == "finished":
-                summary.done += future.result() == "done"
-                summary.skipped += future.result() == "skipped"
+                if outcome.get(future.key) != "done":
+                    outcome[future.key] = future.result()
             else:
                 error = future.exception()
-                summary.failed.append(f"{name}: {type(error).__name__}: {error}")
-            finished = summary.done + summary.skipped + len(summary.failed)
+                outcome[future.key] = f"{name}: {type(error).__name__}: {error}"
+            finished = summary.skipped + len(outcome)
             report(finished / summary.total, f"{finished}/{summary.total} {name}")
+        results = list(outcome.values())
+        summary.done = results.count("done")
+        summary.skipped += results.count("skipped")
+        summary.failed = [r for r in results if r not in ("done", "skipped")]
     finally:
         start = time.monotonic()
         if own:
