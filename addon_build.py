@@ -397,7 +397,8 @@ def compat() -> None:
         if base is None:
             continue
         python = _ensure_venv(REPO / f".venv-bpy-{bpy_version}",
-                              [f"bpy=={bpy_version}", f"numpy=={numpy_version}", "pytest"],
+                              [f"bpy=={bpy_version}", f"numpy=={numpy_version}", "pytest",
+                               "hypothesis"],  # tests/blender/test_fuzz_followers.py
                               base=base)
         print(f"\n--- Blender {bpy_version} (Python {python_version}, numpy {numpy_version}) "
               "---", flush=True)
@@ -409,6 +410,7 @@ def compat() -> None:
         return
     python = _ensure_venv(REPO / f".venv-py{python_version}",
                           [f"numpy=={numpy_version}", "pytest", "hypothesis",
+                           "pillow",  # the pip package's JPEG reader: test_plane_photos, test_cli
                            *_wheels_here(python_version)],
                           base=base)
     print(f"\n--- core on Python {python_version}, numpy {numpy_version} (Blender "
