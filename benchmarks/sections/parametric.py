@@ -112,11 +112,7 @@ def _portilla_simoncelli(ctx, lines: list) -> None:
         "| method | median s | x Heeger-Bergen | peak MiB | predicted s |",
         "|---|---:|---:|---:|---:|",
     ]
-    for name, (seconds, peak, _) in timed.items():
-        m = texsynth.get_method(name)
-        predicted = texsynth.budget.predict(m, crop.shape, side, side, m.resolve({}))
-        lines.append(f"| {name} | {seconds:.2f} | {seconds / base:.2f} | {peak:.0f} | "
-                     f"{predicted:.2f} |")
+    lines += _timing_rows(timed, base, crop.shape, side, digits=2)
     lines.append("")
 
 
@@ -177,11 +173,7 @@ def _random_phase(ctx, lines: list) -> None:
         "| method | s | x Heeger-Bergen | peak MiB | predicted s |",
         "|---|---:|---:|---:|---:|",
     ]
-    for method, (seconds, peak, _) in timed.items():
-        m = texsynth.get_method(method)
-        predicted = texsynth.budget.predict(m, photo.shape, out_side, out_side, m.resolve({}))
-        lines.append(f"| {method} | {seconds:.2f} | {seconds / base:.3f} | {peak:.0f} | "
-                     f"{predicted:.2f} |")
+    lines += _timing_rows(timed, base, photo.shape, out_side, digits=3)
     rpn = timed["random_phase"][2]
     sheet = ctx.contact_sheet("parametric_rpn.png", ["photo", "random_phase (1024 crop)"],
                               [[photo, rpn[:1024, :1024]]], cell=512)
@@ -194,3 +186,14 @@ def run(ctx) -> str:
     _portilla_simoncelli(ctx, lines)
     _random_phase(ctx, lines)
     return "\n".join(lines)
+
+
+def _timing_rows(timed, base, shape, side, digits):
+    """Table rows of the timed methods: seconds, the ratio to ``base``, peak and prediction."""
+    rows = []
+    for name, (seconds, peak, _) in timed.items():
+        m = texsynth.get_method(name)
+        predicted = texsynth.budget.predict(m, shape, side, side, m.resolve({}))
+        rows.append(f"| {name} | {seconds:.2f} | {seconds / base:.{digits}f} | {peak:.0f} | "
+                    f"{predicted:.2f} |")
+    return rows
