@@ -10,11 +10,15 @@ image quilting's minimum error boundary cut (Efros & Freeman 2001, 2.1;
 ``texsynth.blocks.quilting``). Every tile pixel is a photo pixel: the tile set comes with its
 position map, which makes the other maps of a material (roughness, normal) into the same tiles.
 
-- **Diamonds in phase** (Cohen et al. 2003, 3 pick the diamonds at random): each diamond is
-  placed where its sides agree best with the diamonds of the other direction already placed,
-  the quilting patch choice (Efros & Freeman 2001, 2.1: at random among the placements within
-  ``TOLERANCE`` of the best): on a brick wall the courses and joints of every diamond line up.
-  No two diamonds overlap by more than a quarter.
+- **Diamonds in phase**: each diamond is placed where its sides agree best with the diamonds
+  of the other direction already placed, in the four quarters of a tile where they meet
+  (the quilting patch choice, Efros & Freeman 2001, 2.1: at random among the placements
+  within ``TOLERANCE`` of the best), so on a brick wall every diamond's courses and joints
+  line up with every other's. The SSD is the full-resolution one (block means of ``f`` x
+  ``f`` above ``SEARCH_SIDE``, refined within ``f``) plus ``TONE`` times that of 16 x 16 block
+  means: at full resolution the grain outweighs a tone, and diamonds of unlike tone showed
+  as a diagonal lattice of lighter and darker patches (concrete pavers). No two diamonds
+  overlap by more than a quarter.
 - **Tile side**: about half the photo's shorter side, at the side in ``[3/4, 1]`` of that at
   which the photo best repeats itself (its autocorrelation at a shift of one side across and
   down): on regular photos a whole number of courses and bricks, so the diamonds of both
@@ -32,6 +36,8 @@ position map, which makes the other maps of a material (roughness, normal) into 
 
 Deviations, one line each:
 
+- the diamonds' places are searched (above), not taken anywhere in the photo: only diamonds
+  in phase keep a regular photo's rows whole across the cuts;
 - a complete set of ``colours**4`` tiles picked per cell from hashed edge colours (Wei 2004),
   not Cohen et al.'s 8 tiles laid in scanline order (a shader cannot see its neighbours' tiles);
 - the gutters' corner squares continue the north and south diamonds (the diagonal neighbour's
