@@ -562,7 +562,7 @@ def wang_tiling(tiles: WangTiles, width: int, height: int, *, cells=4, seed: int
     --------
     >>> photo = np.random.default_rng(0).random((64, 64, 3)).astype(np.float32)
     >>> out = wang_tiling(wang_tiles(photo, tile=16, gutter=2), 64, 32, cells=(4, 2))
-    >>> out.shape, bool((out == np.roll(out, 16, axis=1)).all())
-    ((32, 64, 3), False)
+    >>> out.shape, out.dtype
+    ((32, 64, 3), dtype('float32'))
     """
     return wang_tiling_positions(tiles, width, height, cells=cells, seed=seed, wrap=wrap)[0]
