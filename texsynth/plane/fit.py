@@ -359,7 +359,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                 else _fit_unknown_focal(crit, fine, side, v_spaced)
 
         fit = texture_fit()
-        found = families(fine_segments(lum, small, k, mask), side)
+        found = families(fine_segments(lum, small, k, mask, image), side)
         spaced = None
         if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is

@@ -24,11 +24,13 @@ positions instead of filter energies; a Rayleigh test of periodicity replaces te
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.ndimage as ndi
 
+from .. import validation
 from .geometry import jacobians
 from .spectra import downsample
 
@@ -36,6 +38,8 @@ __all__ = ["Segments", "segments", "fine_segments", "families", "vanishing_point
            "horizon_through", "spaced_horizon", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
+_LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (polarity a label)
+_SCALES = (1.0, 1.5, 2.5)  # ridge filter scales (pixels): joints about 2 to 8 pixels wide
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
 _STRONG = 3.0         # gradient magnitude threshold, in units of its median over textured pixels
@@ -52,6 +56,7 @@ _CENTRAL = (10.0, 90.0)  # percentiles of the offsets across which the periods a
 _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on the plane renders:
 #                      wrong lone families reach 9.7, right ones and the test boards 12.9 up)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
+_MODE = os.environ.get("TS_LINES", "ridges")
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
 
@@ -81,60 +86,166 @@ class Segments:
         return _noise(self.length / self.pixel)
 
 
-def segments(lum: np.ndarray, mask: np.ndarray) -> Segments:
-    """Line-support regions of ``lum`` (textured pixels ``mask`` only) fitted by their axes.
+def segments(lum: np.ndarray, mask: np.ndarray, chroma=()) -> Segments:
+    """Straight segments of ``lum`` (textured pixels ``mask`` only): the joints' centre lines
+    (:func:`_ridges`) and, where the mode asks, Burns et al.'s step edges.
 
-    Pixels are strong above ``_STRONG`` times the median gradient; where that leaves fewer
+    Pixels are strong above ``_STRONG`` times the median response; where that leaves fewer
     segments than two families need, above ``_DENSE`` times it (a dense pattern: in a weave
     every pixel lies on a thread's edge, so the median is itself high and the cell edges stand
     only about twice above it). Such segments are thread edges in short bundles, equally spaced
     within a cell only: their spacing says nothing of the plane (``dense``)."""
+    found = None
+    for level, dense in ((_STRONG, False), (_DENSE, True)):
+        parts = [_ridge_segments([np.asarray(lum, np.float32), *chroma], mask, level)]
+        if _MODE in ("both", "edges"):
+            parts.append(_edge_segments(lum, mask, level))
+        if _MODE == "edges":
+            parts = parts[1:]
+        found = _join(parts, dense)
+        if len(found) >= 2 * _MIN_FAMILY:
+            break
+    return found
+
+
+def _join(parts: list[Segments], dense: bool) -> Segments:
+    return Segments(np.concatenate([p.m for p in parts]).reshape(-1, 2),
+                    np.concatenate([p.d for p in parts]).reshape(-1, 2),
+                    np.concatenate([p.length for p in parts]), dense)
+
+
+def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
+    """Burns et al.'s regions of strong gradient, binned by gradient direction (polarity kept)."""
     smooth = ndi.gaussian_filter(lum, 1.0, mode="reflect")
     g_row, g_col = ndi.sobel(smooth, 0), ndi.sobel(smooth, 1)
     magnitude = np.hypot(g_row, g_col)
     textured = mask & (magnitude > 0)
     if not textured.any():
-        return Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0))
+        return _join([], False)
     median = np.median(magnitude[textured])
-    found = _support_regions(g_row, g_col, magnitude, textured & (magnitude > _STRONG * median))
-    if len(found) < 2 * _MIN_FAMILY:
-        dense = _support_regions(g_row, g_col, magnitude,
-                                 textured & (magnitude > _DENSE * median))
-        found = Segments(dense.m, dense.d, dense.length, True)
-    return found
+    angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
+    return _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude,
+                            textured & (magnitude > level * median))
 
 
-def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray) -> Segments:
-    """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
-    on its longer side, in the pixels of its analysis image ``small`` (``lum`` block-averaged
-    by ``k``, textured where ``mask``). Deviation from Burns et al.: the regions are found at
-    the finer size because a real joint (mortar, the gap between setts) is 1-3 pixels wide and
-    a head joint shorter than ``_MIN_LENGTH`` at the texture's analysis size."""
+def _ridges(planes, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Line strength (in units of its median over the textured pixels ``mask``) and line
+    direction (radians mod pi, from +row towards +col) of every pixel: the strongest over the
+    channels ``planes`` and the scales ``_SCALES``.
+
+    The Hessian H of a channel smoothed at scale s: across a line its eigenvalue of larger
+    magnitude l1 is large, along it l2 is small; the strength s^2 (|l1| - |l2|) (= s^2
+    min(|trace H|, l1 - l2): Lindeberg 1998, "Edge and ridge detection with automatic scale
+    selection", sec. 4, normalisation gamma = 1) is 0 on a blob or a flat patch, and a dark line
+    (a valley) and a bright one (a ridge) score alike. Deviation: each channel counts in units
+    of its own median, so that grey mortar between red bricks of the same luminance, or grass
+    between grey setts, stands out in the chroma channel that shows it."""
+    best = np.zeros(mask.shape, np.float32)
+    direction = np.zeros(mask.shape, np.float32)
+    for plane in planes:
+        strongest = np.zeros(mask.shape, np.float32)
+        normal = np.zeros(mask.shape, np.float32)
+        for s in _SCALES:
+            h_rr = ndi.gaussian_filter(plane, s, order=(2, 0), mode="reflect")
+            h_cc = ndi.gaussian_filter(plane, s, order=(0, 2), mode="reflect")
+            h_rc = ndi.gaussian_filter(plane, s, order=(1, 1), mode="reflect")
+            trace = h_rr + h_cc
+            strength = s * s * np.minimum(np.abs(trace), 2.0 * np.hypot((h_rr - h_cc) / 2, h_rc))
+            # The eigenvector of the algebraically larger eigenvalue (a dark line's normal);
+            # a bright line's normal is the other one, a quarter turn away.
+            phi = 0.5 * np.arctan2(2.0 * h_rc, h_rr - h_cc) + np.where(trace < 0, math.pi / 2, 0)
+            better = strength > strongest
+            strongest = np.where(better, strength, strongest)
+            normal = np.where(better, phi, normal)
+        median = float(np.median(strongest[mask])) if mask.any() else 0.0
+        if median <= 0.0:
+            continue
+        strongest /= median
+        better = strongest > best
+        best = np.where(better, strongest, best)
+        direction = np.where(better, (normal + math.pi / 2) % math.pi, direction)
+    return best, direction
+
+
+def _ridge_segments(planes, mask: np.ndarray, level: float) -> Segments:
+    """Centre lines of dark and bright lines (:func:`_ridges`): the pixels above ``level`` that
+    are the strongest across their line (non-maximum suppression, Canny 1986), grouped by line
+    direction into Burns et al.'s line-support regions. Deviation from Burns et al.: a joint
+    (mortar, the gap between setts) is found as one line at its centre, not as two weak edges
+    a few pixels apart; direction bins are mod pi, without polarity."""
+    strength, direction = _ridges(planes, mask)
+    h, w = strength.shape
+    across = direction + math.pi / 2  # the neighbours across the line, rounded to the 8 nearest
+    step_r = np.round(np.cos(across)).astype(np.intp)
+    step_c = np.round(np.sin(across)).astype(np.intp)
+    rows, cols = np.nonzero(mask & (strength > level))
+    keep = np.ones(len(rows), bool)
+    for sign in (1, -1):
+        r = np.clip(rows + sign * step_r[rows, cols], 0, h - 1)
+        c = np.clip(cols + sign * step_c[rows, cols], 0, w - 1)
+        keep &= strength[rows, cols] >= strength[r, c]
+    strong = np.zeros((h, w), bool)
+    strong[rows[keep], cols[keep]] = True
+    return _support_regions(direction / (math.pi / _LINE_BINS), np.zeros((h, w), np.int64),
+                            _LINE_BINS, strength, strong)
+
+
+def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
+                  image=None) -> Segments:
+    """:func:`segments` of the photo's luminance ``lum`` (and of the chroma of its colour
+    ``image``, :func:`opponent`) found at up to ``_LINE_SIDE`` pixels on its longer side, in the
+    pixels of its analysis image ``small`` (``lum`` block-averaged by ``k``, textured where
+    ``mask``). Deviation from Burns et al.: the regions are found at the finer size because a
+    real joint (mortar, the gap between setts) is 1-3 pixels wide and a head joint shorter than
+    ``_MIN_LENGTH`` at the texture's analysis size."""
     fine, k_f = downsample(lum, _LINE_SIDE)
     if k_f >= k:
-        return segments(small, mask)
+        return segments(small, mask, [_reduce(c, k) for c in opponent(image)])
     ratio = k_f / k
     # The analysis mask at each fine pixel's centre (both images are central crops).
     rows, cols = ((np.arange(n) - (n - 1) / 2) * ratio + (m - 1) / 2
                   for n, m in zip(fine.shape, mask.shape, strict=True))
     rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
                   for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
-    found = segments(fine, mask[np.ix_(rows, cols)])
+    found = segments(fine, mask[np.ix_(rows, cols)], [_reduce(c, k_f) for c in opponent(image)])
     return Segments(found.m * ratio, found.d, found.length * ratio, found.dense, ratio)
 
 
-def _support_regions(g_row, g_col, magnitude, strong) -> Segments:
-    """Burns et al.'s line-support regions of the ``strong`` pixels, fitted by their axes."""
+def _reduce(a: np.ndarray, k: int) -> np.ndarray:
+    """``a`` block-averaged by ``k`` over the central crop of whole blocks, as
+    :func:`~texsynth.plane.spectra.downsample` does (float32)."""
+    h, w = (a.shape[0] // k) * k, (a.shape[1] // k) * k
+    r0, c0 = (a.shape[0] - h) // 2, (a.shape[1] - w) // 2
+    return a[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k).mean(axis=(1, 3),
+                                                                      dtype=np.float32)
+
+
+def opponent(image) -> list[np.ndarray]:
+    """The chroma of a colour ``image`` as two opponent channels, red - green and yellow - blue
+    (none for a grey one): joints that differ from the stones in colour more than in luminance."""
+    if image is None:
+        return []
+    a = validation.image(image, what="image", channels=None)
+    if a.shape[2] < 3:
+        return []
+    r, g, b = a[:, :, 0], a[:, :, 1], a[:, :, 2]
+    return [r - g, 0.5 * (r + g) - b]
+
+
+def _support_regions(angle, kind, n_bins, magnitude, strong) -> Segments:
+    """Burns et al.'s line-support regions of the ``strong`` pixels, fitted by their axes:
+    ``angle`` in bin units (``n_bins`` bins wrap around), ``kind`` a further label (polarity)
+    that regions do not cross."""
     h, w = magnitude.shape
-    angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
     rows, cols = np.nonzero(strong)
     weight = magnitude[rows, cols]
     regions = []
     for shift in (0.0, 0.5):
-        bins = np.floor(angle[rows, cols] + shift).astype(np.int64) % _BINS
+        bins = (np.floor(angle[rows, cols] + shift).astype(np.int64) % n_bins
+                + n_bins * kind[rows, cols])
         labels = np.zeros((h, w), np.int64)
         count = 0
-        for b in range(_BINS):
+        for b in range(n_bins * (int(kind.max(initial=0)) + 1)):
             image = np.zeros((h, w), bool)
             pick = bins == b
             image[rows[pick], cols[pick]] = True
