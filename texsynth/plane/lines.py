@@ -44,6 +44,7 @@ _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
 _STRONG = 3.0         # gradient magnitude threshold, in units of its median over textured pixels
 _DENSE = 1.5          # ... where _STRONG leaves too few segments (dense patterns: weaves)
+_CONTRAST_CAP = 12.0  # strongest contrast a segment's weight counts (units of the median)
 _RANSAC = 400         # hypotheses per vanishing point
 _INLIER_DEG = 1.5     # consistency threshold (degrees), plus the direction noise of short segments
 _MIN_FAMILY = 6       # segments a family needs
@@ -73,12 +74,24 @@ class Segments:
     length: np.ndarray
     dense: bool = False
     pixel: float = 1.0
+    contrast: np.ndarray | None = None
+
+    @property
+    def weight(self) -> np.ndarray:
+        """Weight in the vanishing-point fits: length times contrast (the mean strength over
+        its median across the image, at most ``_CONTRAST_CAP``): a faint run of grain near the
+        threshold counts for less than a joint of the same length, and one very strong edge
+        (a shadow, the wall's end) for no more than a few joints."""
+        if self.contrast is None:
+            return self.length
+        return self.length * np.minimum(self.contrast, _CONTRAST_CAP)
 
     def __len__(self) -> int:
         return len(self.length)
 
     def take(self, keep) -> Segments:
-        return Segments(self.m[keep], self.d[keep], self.length[keep], self.dense, self.pixel)
+        return Segments(self.m[keep], self.d[keep], self.length[keep], self.dense, self.pixel,
+                        None if self.contrast is None else self.contrast[keep])
 
     @property
     def noise(self) -> np.ndarray:
@@ -108,10 +121,14 @@ def segments(lum: np.ndarray, mask: np.ndarray, chroma=()) -> Segments:
     return found
 
 
+_EMPTY = Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), contrast=np.zeros(0))
+
+
 def _join(parts: list[Segments], dense: bool) -> Segments:
     return Segments(np.concatenate([p.m for p in parts]).reshape(-1, 2),
                     np.concatenate([p.d for p in parts]).reshape(-1, 2),
-                    np.concatenate([p.length for p in parts]), dense)
+                    np.concatenate([p.length for p in parts]), dense,
+                    contrast=np.concatenate([p.contrast for p in parts]))
 
 
 def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
@@ -121,10 +138,10 @@ def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
     magnitude = np.hypot(g_row, g_col)
     textured = mask & (magnitude > 0)
     if not textured.any():
-        return _join([], False)
+        return _EMPTY
     median = np.median(magnitude[textured])
     angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
-    return _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude,
+    return _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude / median,
                             textured & (magnitude > level * median))
 
 
@@ -208,7 +225,8 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
                   for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
     found = segments(fine, mask[np.ix_(rows, cols)], [_reduce(c, k_f) for c in opponent(image)])
-    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense, ratio)
+    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense, ratio,
+                    found.contrast)
 
 
 def _reduce(a: np.ndarray, k: int) -> np.ndarray:
@@ -262,18 +280,20 @@ def _support_regions(angle, kind, n_bins, magnitude, strong) -> Segments:
                                                                                None,
                                                                                len(fit[2])), 1)
         good = (votes > 0.5) & fit[3]
-        kept.append((fit[0][good], fit[1][good], fit[2][good]))
+        kept.append((fit[0][good], fit[1][good], fit[2][good], fit[4][good]))
     m = np.concatenate([k[0] for k in kept])
     d = np.concatenate([k[1] for k in kept])
     length = np.concatenate([k[2] for k in kept])
+    contrast = np.concatenate([k[3] for k in kept])
     # centred, y up
     m = np.stack([m[:, 1] - (w - 1) / 2, (h - 1) / 2 - m[:, 0]], axis=1)
     d = np.stack([d[:, 1], -d[:, 0]], axis=1)
-    return Segments(m, d, length)
+    return Segments(m, d, length, contrast=contrast)
 
 
 def _fit_regions(label, count, rows, cols, weight):
-    """Per region: midpoint (row, col), unit direction, length and whether it is line-like."""
+    """Per region: midpoint (row, col), unit direction, length, whether it is line-like and
+    its mean ``weight`` (strength)."""
     n = count + 1
     label = label.astype(np.int64)
     sums = [np.bincount(label, weight * t, n) for t in
@@ -293,7 +313,8 @@ def _fit_regions(label, count, rows, cols, weight):
     width = np.sqrt(12.0 * minor)
     line_like = (pixels >= 8) & (length >= _MIN_LENGTH) & (width <= _MAX_WIDTH * length)
     line_like[0] = False
-    return label, (np.stack([mr, mc], axis=1), direction, length, line_like)
+    mean = sums[0] / np.maximum(pixels, 1)
+    return label, (np.stack([mr, mc], axis=1), direction, length, line_like, mean)
 
 
 def _noise(length: np.ndarray) -> np.ndarray:
@@ -323,7 +344,7 @@ def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.nda
     if len(s) < _MIN_FAMILY:
         return None
     lines = _lines(s, scale)
-    p = s.length / s.length.sum()
+    p = s.weight / s.weight.sum()
     i = rng.choice(len(s), _RANSAC, p=p)
     j = rng.choice(len(s), _RANSAC, p=p)
     vp = np.cross(lines[i], lines[j])
@@ -332,13 +353,13 @@ def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.nda
         return None
     vp /= np.linalg.norm(vp, axis=1, keepdims=True)
     limit = math.radians(_INLIER_DEG) + 2.0 * s.noise
-    support = ((_consistency(s, vp, scale) < limit[None]) * s.length[None]).sum(axis=1)
+    support = ((_consistency(s, vp, scale) < limit[None]) * s.weight[None]).sum(axis=1)
     best = vp[int(np.argmax(support))]
     for _ in range(3):  # least squares on the inliers: min sum (l . V)^2 L, |V| = 1
         inliers = _consistency(s, best[None], scale)[0] < limit
         if inliers.sum() < 2:
             return None
-        weighted = lines[inliers] * np.sqrt(s.length[inliers])[:, None]
+        weighted = lines[inliers] * np.sqrt(s.weight[inliers])[:, None]
         best = np.linalg.svd(weighted)[2][-1]
     inliers = _consistency(s, best[None], scale)[0] < limit
     return best, inliers
@@ -373,7 +394,7 @@ def families(s: Segments, side: float, seed: int = 0) -> list[Segments]:
 def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     """The family's vanishing point in centred y-up pixels, None when it is at infinity (the
     family's lines are parallel in the image within their noise)."""
-    lines = _lines(family, side) * np.sqrt(family.length)[:, None]
+    lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
     vp = np.linalg.svd(lines)[2][-1]
     spread = float(np.max(np.linalg.norm(family.m, axis=1))) / side + 1.0
     if abs(vp[2]) * 1e3 < spread * np.linalg.norm(vp[:2]):  # farther than 1000 image sides
@@ -385,7 +406,7 @@ def horizon_through(family: Segments, side: float) -> np.ndarray:
     """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
     a . v = c (a unit vector): every plane whose lines of this direction appear as the family
     has its horizon v . x = 1 through the vanishing point x (a . v = 0 when x is at infinity)."""
-    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1]
+    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.weight)[:, None])[2][-1]
     norm = float(np.linalg.norm(vp[:2]))
     return np.append(vp[:2] / norm, vp[2] / (norm * side))
 
