@@ -47,6 +47,7 @@ _DENSE = 1.5          # ... where _STRONG leaves too few segments (dense pattern
 _CONTRAST_CAP = 12.0  # strongest contrast a segment's weight counts (units of the median)
 _RANSAC = 400         # hypotheses per vanishing point
 _INLIER_DEG = 1.5     # consistency threshold (degrees), plus the direction noise of short segments
+_DISTINCT_DEG = 30.0  # least image angle of the second family to the first's vanishing point
 _MIN_FAMILY = 6       # segments a family needs
 _MIN_SUPPORT = 0.75   # total length of a family, in image sides
 _OVER_CHANCE = 3.0    # ... and this many times what random directions would give
@@ -370,24 +371,38 @@ def families(s: Segments, side: float, seed: int = 0) -> list[Segments]:
 
     A family needs ``_MIN_FAMILY`` segments, a total length of ``_MIN_SUPPORT`` image sides
     (``side``: the longer one, pixels) and ``_OVER_CHANCE`` times the length that segments of
-    random directions would line up by chance. Deterministic for a given ``seed``.
+    random directions would line up by chance. The second must lie a median ``_DISTINCT_DEG``
+    from the first family's vanishing point (and is sought among segments at least half that
+    far): two orthogonal directions
+    on a plane seen at a slant under 75 deg stay that far apart in the image (2 atan(cos
+    slant), orthographic), while stones' sides and grass a few degrees off a curved row made
+    false second families there. Deterministic for a given ``seed``.
     """
     rng = np.random.default_rng(seed)
-    found, rest = [], s
+    found, rest, share, first = [], s, 1.0, None
     for _ in range(2):
-        result = _vanishing_point(rest, side, rng)
+        pool = rest
+        if first is not None:  # perspective brings single segments closer: half the angle
+            pool = rest.take(_consistency(rest, first[None], side)[0]
+                             >= math.radians(_DISTINCT_DEG / 2))
+            share = 90.0 / (90.0 - _DISTINCT_DEG / 2)  # random directions in what is left
+        result = _vanishing_point(pool, side, rng)
         if result is None:
             break
-        _, inliers = result
-        family = rest.take(inliers)
+        vp, inliers = result
+        family = pool.take(inliers)
         # Random directions would put this share of the length within the threshold.
-        chance = (rest.length * np.minimum(1.0, 2.0 * (math.radians(_INLIER_DEG)
-                                                       + 2.0 * rest.noise) / math.pi)).sum()
+        chance = (pool.length * np.minimum(1.0, 2.0 * share * (math.radians(_INLIER_DEG)
+                                                               + 2.0 * pool.noise) / math.pi)
+                  ).sum()
         if len(family) < _MIN_FAMILY or family.length.sum() < max(_MIN_SUPPORT * side,
                                                                   _OVER_CHANCE * chance):
             break
+        if first is not None and np.median(_consistency(family, first[None], side)[0]) \
+                < math.radians(_DISTINCT_DEG):
+            break
         found.append(family)
-        rest = rest.take(~inliers)
+        rest, first = pool.take(~inliers), vp
     return found
 
 
