@@ -85,9 +85,12 @@ def test_irregular_shaded_joints_give_both_families():
                      axis=-1) - 0.5
     lum = spectra.luminance(photo)
     small, k = spectra.downsample(lum)
-    found = lines.families(lines.fine_segments(lum, small, k, spectra.texture_mask(small), photo),
-                           float(max(small.shape)))
+    mask = spectra.texture_mask(small)
+    side = float(max(small.shape))
+    assert len(lines.families(lines.fine_segments(lum, small, k, mask), side)) < 2  # edges
+    found = lines.families(lines.fine_segments(lum, small, k, mask, photo, ridges=True), side)
     assert len(found) == 2
+    assert len(lines.photo_families(lum, small, k, mask, photo)) == 2
     for given in (None, focal):
         result = estimate_plane(photo, focal_px=given)
         assert result.line_families == 2, given

@@ -1,11 +1,16 @@
 """Line evidence: straight segments of a photo, their families, and what they say of the plane.
 
-Segments follow Burns, Hanson & Riseman 1986 ("Extracting straight lines"): pixels of strong
-gradient are grouped by gradient orientation into connected "line-support regions" (two bin
-partitions offset by half a bin, each pixel voting for the longer of its two regions), and each
-region's weighted principal axis is the segment. Families are vanishing points found by RANSAC
-on the Gauss sphere (Barnard 1983; the consistency test of Rother 2002: the angle between a
-segment and the line from its midpoint to the vanishing point), refined by least squares.
+Segments follow Burns, Hanson & Riseman 1986 ("Extracting straight lines"): strong pixels are
+grouped by direction into connected "line-support regions" (two bin partitions offset by half
+a bin, each pixel voting for the longer of its two regions), and each region's weighted
+principal axis is the segment. Deviation: the pixels are the centre lines of dark and bright
+lines, not of step edges: a joint in a photo (mortar, the gap between setts or pavers) is a
+line a few pixels wide, irregular and shaded, often standing out in colour more than in
+luminance, and Lindeberg's (1998) scale-normalised ridge strength over a few scales and over
+luminance and two chroma channels finds it where the two weak edges of its sides did not.
+Families are vanishing points found by RANSAC on the Gauss sphere (Barnard 1983; the
+consistency test of Rother 2002: the angle between a segment and the line from its midpoint
+to the vanishing point), refined by least squares; segments weigh by length and contrast.
 
 On a plane the families' directions are parallel, and (bricks, tiles, planks, weaves) the two
 main families are orthogonal. For a plane hypothesis, :class:`LineCost` back-projects every
@@ -24,8 +29,7 @@ positions instead of filter energies; a Rayleigh test of periodicity replaces te
 from __future__ import annotations
 
 import math
-import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.ndimage as ndi
@@ -34,7 +38,7 @@ from .. import validation
 from .geometry import jacobians
 from .spectra import downsample
 
-__all__ = ["Segments", "segments", "fine_segments", "families", "vanishing_point",
+__all__ = ["Segments", "segments", "fine_segments", "photo_families", "families", "vanishing_point",
            "horizon_through", "spaced_horizon", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
@@ -58,7 +62,6 @@ _CENTRAL = (10.0, 90.0)  # percentiles of the offsets across which the periods a
 _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on the plane renders:
 #                      wrong lone families reach 9.7, right ones and the test boards 12.9 up)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
-_MODE = os.environ.get("TS_LINES", "ridges")
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
 
@@ -100,36 +103,46 @@ class Segments:
         return _noise(self.length / self.pixel)
 
 
-def segments(lum: np.ndarray, mask: np.ndarray, chroma=()) -> Segments:
-    """Straight segments of ``lum`` (textured pixels ``mask`` only): the joints' centre lines
-    (:func:`_ridges`) and, where the mode asks, Burns et al.'s step edges.
+def segments(lum: np.ndarray, mask: np.ndarray, chroma=None) -> Segments:
+    """Straight segments of ``lum`` (textured pixels ``mask`` only): Burns et al.'s step edges,
+    or with ``chroma`` (a list of chroma channels, possibly empty) the centre lines of dark
+    and bright lines in luminance and chroma (:func:`_ridges`).
 
     Pixels are strong above ``_STRONG`` times the median response; where that leaves fewer
     segments than two families need, above ``_DENSE`` times it (a dense pattern: in a weave
     every pixel lies on a thread's edge, so the median is itself high and the cell edges stand
     only about twice above it). Such segments are thread edges in short bundles, equally spaced
     within a cell only: their spacing says nothing of the plane (``dense``)."""
-    found = None
+    found = _EMPTY
     for level, dense in ((_STRONG, False), (_DENSE, True)):
-        parts = [_ridge_segments([np.asarray(lum, np.float32), *chroma], mask, level)]
-        if _MODE in ("both", "edges"):
-            parts.append(_edge_segments(lum, mask, level))
-        if _MODE == "edges":
-            parts = parts[1:]
-        found = _join(parts, dense)
+        if chroma is None:
+            found = _edge_segments(lum, mask, level)
+        else:
+            found = _ridge_segments([np.asarray(lum, np.float32), *chroma], mask, level)
+        found = replace(found, dense=dense)
         if len(found) >= 2 * _MIN_FAMILY:
             break
     return found
 
 
+def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
+                   image=None) -> list[Segments]:
+    """The line families (:func:`families`) of a photo (luminance ``lum``, colour ``image``;
+    analysed as ``small``, ``lum`` block-averaged by ``k``, textured where ``mask``): those of
+    its step edges, or of its lines' centres (:func:`fine_segments` with ``ridges``) where
+    these give more families. Step edges are the more precise on clean, high-contrast joints,
+    and a board's grain (itself a bundle of fine ridges) would hide its seams' spacing; the
+    joints of real walls and pavements are lines a few pixels wide, irregular and shaded,
+    whose two weak edges leave a family out."""
+    side = float(max(small.shape))
+    edges = families(fine_segments(lum, small, k, mask), side)
+    if len(edges) == 2:
+        return edges
+    centres = families(fine_segments(lum, small, k, mask, image, ridges=True), side)
+    return centres if len(centres) > len(edges) else edges
+
+
 _EMPTY = Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), contrast=np.zeros(0))
-
-
-def _join(parts: list[Segments], dense: bool) -> Segments:
-    return Segments(np.concatenate([p.m for p in parts]).reshape(-1, 2),
-                    np.concatenate([p.d for p in parts]).reshape(-1, 2),
-                    np.concatenate([p.length for p in parts]), dense,
-                    contrast=np.concatenate([p.contrast for p in parts]))
 
 
 def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
@@ -142,8 +155,9 @@ def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
         return _EMPTY
     median = np.median(magnitude[textured])
     angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
-    return _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude / median,
-                            textured & (magnitude > level * median))
+    found = _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude,
+                             textured & (magnitude > level * median))
+    return replace(found, contrast=None)  # weighed by length alone, as Burns et al.'s
 
 
 def _ridges(planes, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -209,25 +223,31 @@ def _ridge_segments(planes, mask: np.ndarray, level: float) -> Segments:
 
 
 def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
-                  image=None) -> Segments:
-    """:func:`segments` of the photo's luminance ``lum`` (and of the chroma of its colour
-    ``image``, :func:`opponent`) found at up to ``_LINE_SIDE`` pixels on its longer side, in the
-    pixels of its analysis image ``small`` (``lum`` block-averaged by ``k``, textured where
-    ``mask``). Deviation from Burns et al.: the regions are found at the finer size because a
-    real joint (mortar, the gap between setts) is 1-3 pixels wide and a head joint shorter than
-    ``_MIN_LENGTH`` at the texture's analysis size."""
+                  image=None, ridges: bool = False) -> Segments:
+    """:func:`segments` of the photo's luminance ``lum`` (with ``ridges``: the lines' centres
+    in it and in the chroma of its colour ``image``, :func:`opponent`) found at up to
+    ``_LINE_SIDE`` pixels on its longer side, in the pixels of its analysis image ``small``
+    (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from Burns et al.:
+    the regions are found at the finer size because a real joint (mortar, the gap between
+    setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the texture's
+    analysis size."""
     fine, k_f = downsample(lum, _LINE_SIDE)
     if k_f >= k:
-        return segments(small, mask, [_reduce(c, k) for c in opponent(image)])
+        fine, k_f = small, k
+        fine_mask = mask
+    else:
+        # The analysis mask at each fine pixel's centre (both images are central crops).
+        ratio = k_f / k
+        rows, cols = ((np.arange(n) - (n - 1) / 2) * ratio + (m - 1) / 2
+                      for n, m in zip(fine.shape, mask.shape, strict=True))
+        rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
+                      for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
+        fine_mask = mask[np.ix_(rows, cols)]
+    chroma = [_reduce(c, k_f) for c in opponent(image)] if ridges else None
+    found = segments(fine, fine_mask, chroma)
     ratio = k_f / k
-    # The analysis mask at each fine pixel's centre (both images are central crops).
-    rows, cols = ((np.arange(n) - (n - 1) / 2) * ratio + (m - 1) / 2
-                  for n, m in zip(fine.shape, mask.shape, strict=True))
-    rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
-                  for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
-    found = segments(fine, mask[np.ix_(rows, cols)], [_reduce(c, k_f) for c in opponent(image)])
-    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense, ratio,
-                    found.contrast)
+    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense,
+                    found.pixel * ratio, found.contrast)
 
 
 def _reduce(a: np.ndarray, k: int) -> np.ndarray:
