@@ -43,6 +43,8 @@ __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families"
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
 _LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (polarity a label)
+_SECOND = np.array([1.0, -2.0, 1.0], np.float32)  # second difference
+_FIRST = np.array([-0.5, 0.0, 0.5], np.float32)    # central difference
 _SCALES = (1.0, 1.5, 2.5)  # ridge filter scales (pixels): joints about 2 to 8 pixels wide
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
@@ -64,6 +66,8 @@ _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on th
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
+_RIDGE_SIDE = 1024    # ... their centre lines at up to this side (a brick wall's head joints, 20-30
+#                       px long there, fell under _MIN_LENGTH at 640)
 
 
 @dataclass(frozen=True)
@@ -173,30 +177,34 @@ def _ridges(planes, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     of its own median, so that grey mortar between red bricks of the same luminance, or grass
     between grey setts, stands out in the chroma channel that shows it."""
     best = np.zeros(mask.shape, np.float32)
-    direction = np.zeros(mask.shape, np.float32)
+    hessian = np.zeros((3, *mask.shape), np.float32)  # h_rr - h_cc, 2 h_rc, trace at the best
     for plane in planes:
         strongest = np.zeros(mask.shape, np.float32)
-        normal = np.zeros(mask.shape, np.float32)
+        own = np.zeros_like(hessian)
         for s in _SCALES:
-            h_rr = ndi.gaussian_filter(plane, s, order=(2, 0), mode="reflect")
-            h_cc = ndi.gaussian_filter(plane, s, order=(0, 2), mode="reflect")
-            h_rc = ndi.gaussian_filter(plane, s, order=(1, 1), mode="reflect")
-            trace = h_rr + h_cc
-            strength = s * s * np.minimum(np.abs(trace), 2.0 * np.hypot((h_rr - h_cc) / 2, h_rc))
-            # The eigenvector of the algebraically larger eigenvalue (a dark line's normal);
-            # a bright line's normal is the other one, a quarter turn away.
-            phi = 0.5 * np.arctan2(2.0 * h_rc, h_rr - h_cc) + np.where(trace < 0, math.pi / 2, 0)
+            # Second differences of the smoothed channel: the Gaussian's derivatives at a third
+            # of the cost (one smoothing per scale).
+            g = ndi.gaussian_filter(plane, s, mode="reflect", truncate=3.0)
+            h_rr = ndi.correlate1d(g, _SECOND, axis=0, mode="reflect")
+            h_cc = ndi.correlate1d(g, _SECOND, axis=1, mode="reflect")
+            h_rc = ndi.correlate1d(ndi.correlate1d(g, _FIRST, axis=0, mode="reflect"), _FIRST,
+                                   axis=1, mode="reflect")
+            h = np.stack([h_rr - h_cc, 2.0 * h_rc, h_rr + h_cc])
+            strength = s * s * np.minimum(np.abs(h[2]), np.hypot(h[0], h[1]))
             better = strength > strongest
             strongest = np.where(better, strength, strongest)
-            normal = np.where(better, phi, normal)
+            own = np.where(better, h, own)
         median = float(np.median(strongest[mask])) if mask.any() else 0.0
         if median <= 0.0:
             continue
         strongest /= median
         better = strongest > best
         best = np.where(better, strongest, best)
-        direction = np.where(better, (normal + math.pi / 2) % math.pi, direction)
-    return best, direction
+        hessian = np.where(better, own, hessian)
+    # The eigenvector of the algebraically larger eigenvalue is a dark line's normal; a bright
+    # line's normal is the other one, a quarter turn away; the line runs across its normal.
+    normal = 0.5 * np.arctan2(hessian[1], hessian[0]) + np.where(hessian[2] < 0, math.pi / 2, 0)
+    return best, ((normal + math.pi / 2) % math.pi).astype(np.float32)
 
 
 def _ridge_segments(planes, mask: np.ndarray, level: float) -> Segments:
@@ -224,14 +232,14 @@ def _ridge_segments(planes, mask: np.ndarray, level: float) -> Segments:
 
 def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
                   image=None, ridges: bool = False) -> Segments:
-    """:func:`segments` of the photo's luminance ``lum`` (with ``ridges``: the lines' centres
-    in it and in the chroma of its colour ``image``, :func:`opponent`) found at up to
-    ``_LINE_SIDE`` pixels on its longer side, in the pixels of its analysis image ``small``
-    (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from Burns et al.:
-    the regions are found at the finer size because a real joint (mortar, the gap between
-    setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the texture's
-    analysis size."""
-    fine, k_f = downsample(lum, _LINE_SIDE)
+    """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
+    on its longer side (with ``ridges``: the lines' centres in it and in the chroma of its
+    colour ``image``, :func:`opponent`, at up to ``_RIDGE_SIDE``), in the pixels of its analysis
+    image ``small`` (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from
+    Burns et al.: the regions are found at the finer size because a real joint (mortar, the
+    gap between setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the
+    texture's analysis size."""
+    fine, k_f = downsample(lum, _RIDGE_SIDE if ridges else _LINE_SIDE)
     if k_f >= k:
         fine, k_f = small, k
         fine_mask = mask
@@ -381,7 +389,7 @@ def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.nda
         if inliers.sum() < 2:
             return None
         weighted = lines[inliers] * np.sqrt(s.weight[inliers])[:, None]
-        best = np.linalg.svd(weighted)[2][-1]
+        best = np.linalg.svd(weighted, full_matrices=False)[2][-1]
     inliers = _consistency(s, best[None], scale)[0] < limit
     return best, inliers
 
@@ -430,7 +438,7 @@ def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     """The family's vanishing point in centred y-up pixels, None when it is at infinity (the
     family's lines are parallel in the image within their noise)."""
     lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
-    vp = np.linalg.svd(lines)[2][-1]
+    vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
     spread = float(np.max(np.linalg.norm(family.m, axis=1))) / side + 1.0
     if abs(vp[2]) * 1e3 < spread * np.linalg.norm(vp[:2]):  # farther than 1000 image sides
         return None
@@ -441,7 +449,8 @@ def horizon_through(family: Segments, side: float) -> np.ndarray:
     """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
     a . v = c (a unit vector): every plane whose lines of this direction appear as the family
     has its horizon v . x = 1 through the vanishing point x (a . v = 0 when x is at infinity)."""
-    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.weight)[:, None])[2][-1]
+    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.weight)[:, None],
+                       full_matrices=False)[2][-1]
     norm = float(np.linalg.norm(vp[:2]))
     return np.append(vp[:2] / norm, vp[2] / (norm * side))
 
@@ -460,7 +469,8 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     """
     a, c = constraint[:2], float(constraint[2])
     across = np.array([-a[1], a[0]])
-    vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1][:2]
+    vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None],
+                       full_matrices=False)[2][-1][:2]
     m = np.array([-vp_dir[1], vp_dir[0]])
     x, weight = family.m, family.length
     t = np.tan(np.radians(np.arange(-85.0, 85.1, 1.0))) * 2.0 / side
