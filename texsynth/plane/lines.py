@@ -137,7 +137,36 @@ def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     these give more families. Step edges are the more precise on clean, high-contrast joints,
     and a board's grain (itself a bundle of fine ridges) would hide its seams' spacing; the
     joints of real walls and pavements are lines a few pixels wide, irregular and shaded,
-    whose two weak edges leave a family out."""
+    whose two weak edges leave a family out.
+
+    Parameters
+    ----------
+    lum, small, k, mask : the photo's luminance, its analysis image, the block size between
+        them and the analysis image's textured pixels (:mod:`texsynth.plane.spectra`).
+    image : array (H, W, C), optional
+        The photo in colour, for the chroma channels.
+
+    Returns
+    -------
+    list of Segments, up to two, the best supported first.
+
+    References
+    ----------
+    Burns, Hanson & Riseman 1986, "Extracting straight lines"; Lindeberg 1998, "Edge and ridge
+    detection with automatic scale selection", sec. 4.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from texsynth.plane import spectra
+    >>> y, x = np.mgrid[0:160, 0:160]
+    >>> noise = 0.05 * np.random.default_rng(0).standard_normal((160, 160))
+    >>> image = np.where((y % 32 < 3) | (x % 48 < 3), 0.2, 0.6 + noise)  # dark joints
+    >>> lum = spectra.luminance(image)
+    >>> small, k = spectra.downsample(lum)
+    >>> len(photo_families(lum, small, k, spectra.texture_mask(small), image))
+    2
+    """
     side = float(max(small.shape))
     edges = families(fine_segments(lum, small, k, mask), side)
     if len(edges) == 2:
