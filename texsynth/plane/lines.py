@@ -43,8 +43,6 @@ __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families"
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
 _LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (polarity a label)
-_SECOND = np.array([1.0, -2.0, 1.0], np.float32)  # second difference
-_FIRST = np.array([-0.5, 0.0, 0.5], np.float32)    # central difference
 _SCALES = (1.0, 1.5, 2.5)  # ridge filter scales (pixels): joints about 2 to 8 pixels wide
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
@@ -211,25 +209,30 @@ def _ridges(planes, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         strongest = np.zeros(mask.shape, np.float32)
         own = np.zeros_like(hessian)
         for s in _SCALES:
-            # Second differences of the smoothed channel: the Gaussian's derivatives at a third
-            # of the cost (one smoothing per scale).
-            g = ndi.gaussian_filter(plane, s, mode="reflect", truncate=3.0)
-            h_rr = ndi.correlate1d(g, _SECOND, axis=0, mode="reflect")
-            h_cc = ndi.correlate1d(g, _SECOND, axis=1, mode="reflect")
-            h_rc = ndi.correlate1d(ndi.correlate1d(g, _FIRST, axis=0, mode="reflect"), _FIRST,
-                                   axis=1, mode="reflect")
-            h = np.stack([h_rr - h_cc, 2.0 * h_rc, h_rr + h_cc])
-            strength = s * s * np.minimum(np.abs(h[2]), np.hypot(h[0], h[1]))
+            # Second differences of the smoothed channel: the Gaussian's derivatives at a
+            # fraction of the cost (one smoothing per scale).
+            g = np.pad(ndi.gaussian_filter(plane, s, mode="reflect", truncate=3.0), 1,
+                       mode="reflect")
+            centre = g[1:-1, 1:-1]
+            h_rr = g[2:, 1:-1] + g[:-2, 1:-1] - 2.0 * centre
+            h_cc = g[1:-1, 2:] + g[1:-1, :-2] - 2.0 * centre
+            h_rc = 0.25 * (g[2:, 2:] + g[:-2, :-2] - g[2:, :-2] - g[:-2, 2:])
+            trace = h_rr + h_cc
+            h_rr -= h_cc  # now h_rr - h_cc
+            h_rc *= 2.0
+            strength = s * s * np.minimum(np.abs(trace), np.hypot(h_rr, h_rc))
             better = strength > strongest
-            strongest = np.where(better, strength, strongest)
-            own = np.where(better, h, own)
+            np.copyto(strongest, strength, where=better)
+            for a, b in zip(own, (h_rr, h_rc, trace), strict=True):
+                np.copyto(a, b, where=better)
         median = float(np.median(strongest[mask])) if mask.any() else 0.0
         if median <= 0.0:
             continue
         strongest /= median
         better = strongest > best
-        best = np.where(better, strongest, best)
-        hessian = np.where(better, own, hessian)
+        np.copyto(best, strongest, where=better)
+        for a, b in zip(hessian, own, strict=True):
+            np.copyto(a, b, where=better)
     # The eigenvector of the algebraically larger eigenvalue is a dark line's normal; a bright
     # line's normal is the other one, a quarter turn away; the line runs across its normal.
     normal = 0.5 * np.arctan2(hessian[1], hessian[0]) + np.where(hessian[2] < 0, math.pi / 2, 0)
