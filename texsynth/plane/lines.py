@@ -283,7 +283,7 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
         rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
                       for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
         fine_mask = mask[np.ix_(rows, cols)]
-    chroma = [_reduce(c, k_f) for c in opponent(image)] if ridges else None
+    chroma = opponent(image, k_f) if ridges else None
     found = segments(fine, fine_mask, chroma)
     ratio = k_f / k
     return Segments(found.m * ratio, found.d, found.length * ratio, found.dense,
@@ -299,15 +299,16 @@ def _reduce(a: np.ndarray, k: int) -> np.ndarray:
                                                                       dtype=np.float32)
 
 
-def opponent(image) -> list[np.ndarray]:
-    """The chroma of a colour ``image`` as two opponent channels, red - green and yellow - blue
-    (none for a grey one): joints that differ from the stones in colour more than in luminance."""
+def opponent(image, k: int = 1) -> list[np.ndarray]:
+    """The chroma of a colour ``image`` block-averaged by ``k`` (as :func:`_reduce`) as two
+    opponent channels, red - green and yellow - blue (none for a grey one): joints that differ
+    from the stones in colour more than in luminance."""
     if image is None:
         return []
     a = validation.image(image, what="image", channels=None)
     if a.shape[2] < 3:
         return []
-    r, g, b = a[:, :, 0], a[:, :, 1], a[:, :, 2]
+    r, g, b = (_reduce(a[:, :, c], k) for c in range(3))  # averaging first: the same, cheaper
     return [r - g, 0.5 * (r + g) - b]
 
 
