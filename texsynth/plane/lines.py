@@ -42,7 +42,7 @@ __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families"
            "horizon_through", "spaced_horizon", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
-_LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (polarity a label)
+_LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (dark and bright alike)
 _SCALES = (1.0, 1.5, 2.5)  # ridge filter scales (pixels): joints about 2 to 8 pixels wide
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
