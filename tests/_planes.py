@@ -136,3 +136,35 @@ def rhombus_texture(seed=0, n=512, rows=32, across=64):
     joint = ((y % rows) < 3) | ((slanted % across) < 6)
     t = np.where(joint, -0.25, shade + 0.03 * rng.standard_normal((n, n)))
     return ndi.spline_filter(t, order=3, mode="grid-wrap")
+
+
+def rough_brick_texture(seed=0, n=512, brick=(64, 24)):
+    """Periodic running-bond bricks in colour (n x n x 3, each channel prefiltered like
+    :func:`noise_texture`) as a photo shows them: mottled red bricks of random shade, grey
+    mortar about as bright as the bricks (it stands out in colour more than in luminance),
+    joints 2-5 pixels wide that wander by a pixel or two, a fifth of the head joints closed
+    (bricks butting), and a shading gradient across the wall."""
+    rng = np.random.default_rng(seed)
+    bw, bh = brick
+    rows, cols = np.mgrid[0:n, 0:n]
+    course = rows // bh
+    wobble = ndi.gaussian_filter1d(rng.standard_normal((n // bh + 1, n)), 8.0, axis=1,
+                                   mode="wrap")
+    bed = (rows - course * bh + 1.5 * wobble[course, cols] / wobble.std()) % bh
+    shifted = (cols + (course % 2) * (bw // 2)) % n
+    index = course * (n // bw + 1) + shifted // bw
+    head_at = rng.uniform(-2.0, 2.0, index.max() + 1)[index]
+    head_width = rng.uniform(2.0, 5.0, index.max() + 1)[index]
+    head_open = rng.random(index.max() + 1)[index] > 0.2
+    joint = (bed < rng.uniform(2.0, 4.0, n // bh + 1)[course]) | (
+        head_open & (np.abs((shifted % bw) - bw / 2 - head_at) > bw / 2 - head_width / 2))
+    mottle = ndi.gaussian_filter(rng.standard_normal((n, n)), 3.0, mode="wrap")
+    shade = rng.uniform(0.75, 1.15, index.max() + 1)[index] * (1.0 + 0.4 * mottle / mottle.std()
+                                                                * 0.4)
+    light = 1.0 + 0.25 * np.cos(2 * np.pi * (rows + cols) / n)  # periodic, so it tiles
+    red, grey = np.array([0.62, 0.30, 0.24]), np.array([0.37, 0.37, 0.36])
+    grit = 0.03 * rng.standard_normal((n, n, 1))
+    t = np.where(joint[..., None], grey * rng.uniform(0.85, 1.15), red * shade[..., None])
+    t = (t + grit) * light[..., None]
+    return np.stack([ndi.spline_filter(t[..., c], order=3, mode="grid-wrap") for c in range(3)],
+                    axis=-1)

@@ -34,7 +34,7 @@ import scipy.optimize as opt
 from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
-from .lines import LineCost, families, fine_segments, horizon_through, spaced_horizon
+from .lines import LineCost, horizon_through, photo_families, spaced_horizon
 from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import (
     _ANALYSIS_SIDE,
@@ -359,7 +359,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                 else _fit_unknown_focal(crit, fine, side, v_spaced)
 
         fit = texture_fit()
-        found = families(fine_segments(lum, small, k, mask), side)
+        found = photo_families(lum, small, k, mask, image)
         spaced = None
         if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is

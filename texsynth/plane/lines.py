@@ -1,11 +1,16 @@
 """Line evidence: straight segments of a photo, their families, and what they say of the plane.
 
-Segments follow Burns, Hanson & Riseman 1986 ("Extracting straight lines"): pixels of strong
-gradient are grouped by gradient orientation into connected "line-support regions" (two bin
-partitions offset by half a bin, each pixel voting for the longer of its two regions), and each
-region's weighted principal axis is the segment. Families are vanishing points found by RANSAC
-on the Gauss sphere (Barnard 1983; the consistency test of Rother 2002: the angle between a
-segment and the line from its midpoint to the vanishing point), refined by least squares.
+Segments follow Burns, Hanson & Riseman 1986 ("Extracting straight lines"): strong pixels are
+grouped by direction into connected "line-support regions" (two bin partitions offset by half
+a bin, each pixel voting for the longer of its two regions), and each region's weighted
+principal axis is the segment. Deviation: the pixels are the centre lines of dark and bright
+lines, not of step edges: a joint in a photo (mortar, the gap between setts or pavers) is a
+line a few pixels wide, irregular and shaded, often standing out in colour more than in
+luminance, and Lindeberg's (1998) scale-normalised ridge strength over a few scales and over
+luminance and two chroma channels finds it where the two weak edges of its sides did not.
+Families are vanishing points found by RANSAC on the Gauss sphere (Barnard 1983; the
+consistency test of Rother 2002: the angle between a segment and the line from its midpoint
+to the vanishing point), refined by least squares; segments weigh by length and contrast.
 
 On a plane the families' directions are parallel, and (bricks, tiles, planks, weaves) the two
 main families are orthogonal. For a plane hypothesis, :class:`LineCost` back-projects every
@@ -24,24 +29,29 @@ positions instead of filter energies; a Rayleigh test of periodicity replaces te
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.ndimage as ndi
 
+from .. import validation
 from .geometry import jacobians
 from .spectra import downsample
 
-__all__ = ["Segments", "segments", "fine_segments", "families", "vanishing_point",
+__all__ = ["Segments", "segments", "fine_segments", "photo_families", "families", "vanishing_point",
            "horizon_through", "spaced_horizon", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
+_LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (dark and bright alike)
+_SCALES = (1.0, 1.5, 2.5)  # ridge filter scales (pixels): joints about 2 to 8 pixels wide
 _MIN_LENGTH = 10.0    # shortest segment kept (analysis pixels)
 _MAX_WIDTH = 0.25     # widest support region kept, as a share of its length
 _STRONG = 3.0         # gradient magnitude threshold, in units of its median over textured pixels
 _DENSE = 1.5          # ... where _STRONG leaves too few segments (dense patterns: weaves)
+_CONTRAST_CAP = 12.0  # strongest contrast a segment's weight counts (units of the median)
 _RANSAC = 400         # hypotheses per vanishing point
 _INLIER_DEG = 1.5     # consistency threshold (degrees), plus the direction noise of short segments
+_DISTINCT_DEG = 30.0  # least image angle of the second family to the first's vanishing point
 _MIN_FAMILY = 6       # segments a family needs
 _MIN_SUPPORT = 0.75   # total length of a family, in image sides
 _OVER_CHANCE = 3.0    # ... and this many times what random directions would give
@@ -54,6 +64,8 @@ _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on th
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
+_RIDGE_SIDE = 1024    # ... their centre lines at up to this side (a brick wall's head joints, 20-30
+#                       px long there, fell under _MIN_LENGTH at 640)
 
 
 @dataclass(frozen=True)
@@ -68,12 +80,24 @@ class Segments:
     length: np.ndarray
     dense: bool = False
     pixel: float = 1.0
+    contrast: np.ndarray | None = None
+
+    @property
+    def weight(self) -> np.ndarray:
+        """Weight in the vanishing-point fits: length times contrast (the mean strength over
+        its median across the image, at most ``_CONTRAST_CAP``): a faint run of grain near the
+        threshold counts for less than a joint of the same length, and one very strong edge
+        (a shadow, the wall's end) for no more than a few joints."""
+        if self.contrast is None:
+            return self.length
+        return self.length * np.minimum(self.contrast, _CONTRAST_CAP)
 
     def __len__(self) -> int:
         return len(self.length)
 
     def take(self, keep) -> Segments:
-        return Segments(self.m[keep], self.d[keep], self.length[keep], self.dense, self.pixel)
+        return Segments(self.m[keep], self.d[keep], self.length[keep], self.dense, self.pixel,
+                        None if self.contrast is None else self.contrast[keep])
 
     @property
     def noise(self) -> np.ndarray:
@@ -81,60 +105,227 @@ class Segments:
         return _noise(self.length / self.pixel)
 
 
-def segments(lum: np.ndarray, mask: np.ndarray) -> Segments:
-    """Line-support regions of ``lum`` (textured pixels ``mask`` only) fitted by their axes.
+def segments(lum: np.ndarray, mask: np.ndarray, chroma=None) -> Segments:
+    """Straight segments of ``lum`` (textured pixels ``mask`` only): Burns et al.'s step edges,
+    or with ``chroma`` (a list of chroma channels, possibly empty) the centre lines of dark
+    and bright lines in luminance and chroma (:func:`_ridges`).
 
-    Pixels are strong above ``_STRONG`` times the median gradient; where that leaves fewer
+    Pixels are strong above ``_STRONG`` times the median response; where that leaves fewer
     segments than two families need, above ``_DENSE`` times it (a dense pattern: in a weave
     every pixel lies on a thread's edge, so the median is itself high and the cell edges stand
     only about twice above it). Such segments are thread edges in short bundles, equally spaced
     within a cell only: their spacing says nothing of the plane (``dense``)."""
+    found = _EMPTY
+    for level, dense in ((_STRONG, False), (_DENSE, True)):
+        if chroma is None:
+            found = _edge_segments(lum, mask, level)
+        else:
+            found = _ridge_segments([np.asarray(lum, np.float32), *chroma], mask, level)
+        found = replace(found, dense=dense)
+        if len(found) >= 2 * _MIN_FAMILY:
+            break
+    return found
+
+
+def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
+                   image=None) -> list[Segments]:
+    """The line families (:func:`families`) of a photo (luminance ``lum``, colour ``image``;
+    analysed as ``small``, ``lum`` block-averaged by ``k``, textured where ``mask``): those of
+    its step edges, or of its lines' centres (:func:`fine_segments` with ``ridges``) where
+    these give more families. Step edges are the more precise on clean, high-contrast joints,
+    and a board's grain (itself a bundle of fine ridges) would hide its seams' spacing; the
+    joints of real walls and pavements are lines a few pixels wide, irregular and shaded,
+    whose two weak edges leave a family out.
+
+    Parameters
+    ----------
+    lum, small, k, mask : the photo's luminance, its analysis image, the block size between
+        them and the analysis image's textured pixels (:mod:`texsynth.plane.spectra`).
+    image : array (H, W, C), optional
+        The photo in colour, for the chroma channels.
+
+    Returns
+    -------
+    list of Segments, up to two, the best supported first.
+
+    References
+    ----------
+    Burns, Hanson & Riseman 1986, "Extracting straight lines"; Lindeberg 1998, "Edge and ridge
+    detection with automatic scale selection", sec. 4.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from texsynth.plane import spectra
+    >>> y, x = np.mgrid[0:160, 0:160]
+    >>> noise = 0.05 * np.random.default_rng(0).standard_normal((160, 160))
+    >>> image = np.where((y % 32 < 3) | (x % 48 < 3), 0.2, 0.6 + noise)  # dark joints
+    >>> lum = spectra.luminance(image)
+    >>> small, k = spectra.downsample(lum)
+    >>> len(photo_families(lum, small, k, spectra.texture_mask(small), image))
+    2
+    """
+    side = float(max(small.shape))
+    edges = families(fine_segments(lum, small, k, mask), side)
+    if len(edges) == 2:
+        return edges
+    centres = families(fine_segments(lum, small, k, mask, image, ridges=True), side)
+    return centres if len(centres) > len(edges) else edges
+
+
+_EMPTY = Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), contrast=np.zeros(0))
+
+
+def _edge_segments(lum: np.ndarray, mask: np.ndarray, level: float) -> Segments:
+    """Burns et al.'s regions of strong gradient, binned by gradient direction (polarity kept)."""
     smooth = ndi.gaussian_filter(lum, 1.0, mode="reflect")
     g_row, g_col = ndi.sobel(smooth, 0), ndi.sobel(smooth, 1)
     magnitude = np.hypot(g_row, g_col)
     textured = mask & (magnitude > 0)
     if not textured.any():
-        return Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0))
+        return _EMPTY
     median = np.median(magnitude[textured])
-    found = _support_regions(g_row, g_col, magnitude, textured & (magnitude > _STRONG * median))
-    if len(found) < 2 * _MIN_FAMILY:
-        dense = _support_regions(g_row, g_col, magnitude,
-                                 textured & (magnitude > _DENSE * median))
-        found = Segments(dense.m, dense.d, dense.length, True)
-    return found
-
-
-def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray) -> Segments:
-    """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
-    on its longer side, in the pixels of its analysis image ``small`` (``lum`` block-averaged
-    by ``k``, textured where ``mask``). Deviation from Burns et al.: the regions are found at
-    the finer size because a real joint (mortar, the gap between setts) is 1-3 pixels wide and
-    a head joint shorter than ``_MIN_LENGTH`` at the texture's analysis size."""
-    fine, k_f = downsample(lum, _LINE_SIDE)
-    if k_f >= k:
-        return segments(small, mask)
-    ratio = k_f / k
-    # The analysis mask at each fine pixel's centre (both images are central crops).
-    rows, cols = ((np.arange(n) - (n - 1) / 2) * ratio + (m - 1) / 2
-                  for n, m in zip(fine.shape, mask.shape, strict=True))
-    rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
-                  for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
-    found = segments(fine, mask[np.ix_(rows, cols)])
-    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense, ratio)
-
-
-def _support_regions(g_row, g_col, magnitude, strong) -> Segments:
-    """Burns et al.'s line-support regions of the ``strong`` pixels, fitted by their axes."""
-    h, w = magnitude.shape
     angle = np.arctan2(g_row, g_col) % (2 * math.pi) / (2 * math.pi / _BINS)
+    found = _support_regions(angle, np.zeros(angle.shape, np.int64), _BINS, magnitude,
+                             textured & (magnitude > level * median))
+    return replace(found, contrast=None)  # weighed by length alone, as Burns et al.'s
+
+
+def _ridges(planes, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Line strength (in units of its median over the textured pixels ``mask``) and line
+    direction (radians mod pi, from +row towards +col) of every pixel: the strongest over the
+    channels ``planes`` and the scales ``_SCALES``.
+
+    The Hessian H of a channel smoothed at scale s: across a line its eigenvalue of larger
+    magnitude l1 is large, along it l2 is small; the strength s^2 (|l1| - |l2|) (= s^2
+    min(|trace H|, l1 - l2): Lindeberg 1998, "Edge and ridge detection with automatic scale
+    selection", sec. 4, normalisation gamma = 1) is 0 on a blob or a flat patch, and a dark line
+    (a valley) and a bright one (a ridge) score alike. Deviation: each channel counts in units
+    of its own median, so that grey mortar between red bricks of the same luminance, or grass
+    between grey setts, stands out in the chroma channel that shows it."""
+    best = np.zeros(mask.shape, np.float32)
+    hessian = np.zeros((3, *mask.shape), np.float32)  # h_rr - h_cc, 2 h_rc, trace at the best
+    for plane in planes:
+        strongest = np.zeros(mask.shape, np.float32)
+        own = np.zeros_like(hessian)
+        for s in _SCALES:
+            # Second differences of the smoothed channel: the Gaussian's derivatives at a
+            # fraction of the cost (one smoothing per scale).
+            g = np.pad(ndi.gaussian_filter(plane, s, mode="reflect", truncate=3.0), 1,
+                       mode="reflect")
+            centre = g[1:-1, 1:-1]
+            h_rr = g[2:, 1:-1] + g[:-2, 1:-1] - 2.0 * centre
+            h_cc = g[1:-1, 2:] + g[1:-1, :-2] - 2.0 * centre
+            h_rc = 0.25 * (g[2:, 2:] + g[:-2, :-2] - g[2:, :-2] - g[:-2, 2:])
+            trace = h_rr + h_cc
+            h_rr -= h_cc  # now h_rr - h_cc
+            h_rc *= 2.0
+            strength = s * s * np.minimum(np.abs(trace), np.hypot(h_rr, h_rc))
+            better = strength > strongest
+            np.copyto(strongest, strength, where=better)
+            for a, b in zip(own, (h_rr, h_rc, trace), strict=True):
+                np.copyto(a, b, where=better)
+        median = float(np.median(strongest[mask])) if mask.any() else 0.0
+        if median <= 0.0:
+            continue
+        strongest /= median
+        better = strongest > best
+        np.copyto(best, strongest, where=better)
+        for a, b in zip(hessian, own, strict=True):
+            np.copyto(a, b, where=better)
+    # The eigenvector of the algebraically larger eigenvalue is a dark line's normal; a bright
+    # line's normal is the other one, a quarter turn away; the line runs across its normal.
+    normal = 0.5 * np.arctan2(hessian[1], hessian[0]) + np.where(hessian[2] < 0, math.pi / 2, 0)
+    return best, ((normal + math.pi / 2) % math.pi).astype(np.float32)
+
+
+def _ridge_segments(planes, mask: np.ndarray, level: float) -> Segments:
+    """Centre lines of dark and bright lines (:func:`_ridges`): the pixels above ``level`` that
+    are the strongest across their line (non-maximum suppression, Canny 1986), grouped by line
+    direction into Burns et al.'s line-support regions. Deviation from Burns et al.: a joint
+    (mortar, the gap between setts) is found as one line at its centre, not as two weak edges
+    a few pixels apart; direction bins are mod pi, without polarity."""
+    strength, direction = _ridges(planes, mask)
+    h, w = strength.shape
+    across = direction + math.pi / 2  # the neighbours across the line, rounded to the 8 nearest
+    step_r = np.round(np.cos(across)).astype(np.intp)
+    step_c = np.round(np.sin(across)).astype(np.intp)
+    rows, cols = np.nonzero(mask & (strength > level))
+    keep = np.ones(len(rows), bool)
+    for sign in (1, -1):
+        r = np.clip(rows + sign * step_r[rows, cols], 0, h - 1)
+        c = np.clip(cols + sign * step_c[rows, cols], 0, w - 1)
+        keep &= strength[rows, cols] >= strength[r, c]
+    strong = np.zeros((h, w), bool)
+    strong[rows[keep], cols[keep]] = True
+    return _support_regions(direction / (math.pi / _LINE_BINS), np.zeros((h, w), np.int64),
+                            _LINE_BINS, strength, strong)
+
+
+def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
+                  image=None, ridges: bool = False) -> Segments:
+    """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
+    on its longer side (with ``ridges``: the lines' centres in it and in the chroma of its
+    colour ``image``, :func:`opponent`, at up to ``_RIDGE_SIDE``), in the pixels of its analysis
+    image ``small`` (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from
+    Burns et al.: the regions are found at the finer size because a real joint (mortar, the
+    gap between setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the
+    texture's analysis size."""
+    fine, k_f = downsample(lum, _RIDGE_SIDE if ridges else _LINE_SIDE)
+    if k_f >= k:
+        fine, k_f = small, k
+        fine_mask = mask
+    else:
+        # The analysis mask at each fine pixel's centre (both images are central crops).
+        ratio = k_f / k
+        rows, cols = ((np.arange(n) - (n - 1) / 2) * ratio + (m - 1) / 2
+                      for n, m in zip(fine.shape, mask.shape, strict=True))
+        rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
+                      for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
+        fine_mask = mask[np.ix_(rows, cols)]
+    chroma = opponent(image, k_f) if ridges else None
+    found = segments(fine, fine_mask, chroma)
+    ratio = k_f / k
+    return Segments(found.m * ratio, found.d, found.length * ratio, found.dense,
+                    found.pixel * ratio, found.contrast)
+
+
+def _reduce(a: np.ndarray, k: int) -> np.ndarray:
+    """``a`` block-averaged by ``k`` over the central crop of whole blocks, as
+    :func:`~texsynth.plane.spectra.downsample` does (float32)."""
+    h, w = (a.shape[0] // k) * k, (a.shape[1] // k) * k
+    r0, c0 = (a.shape[0] - h) // 2, (a.shape[1] - w) // 2
+    return a[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k).mean(axis=(1, 3),
+                                                                      dtype=np.float32)
+
+
+def opponent(image, k: int = 1) -> list[np.ndarray]:
+    """The chroma of a colour ``image`` block-averaged by ``k`` (as :func:`_reduce`) as two
+    opponent channels, red - green and yellow - blue (none for a grey one): joints that differ
+    from the stones in colour more than in luminance."""
+    if image is None:
+        return []
+    a = validation.image(image, what="image", channels=None)
+    if a.shape[2] < 3:
+        return []
+    r, g, b = (_reduce(a[:, :, c], k) for c in range(3))  # averaging first: the same, cheaper
+    return [r - g, 0.5 * (r + g) - b]
+
+
+def _support_regions(angle, kind, n_bins, magnitude, strong) -> Segments:
+    """Burns et al.'s line-support regions of the ``strong`` pixels, fitted by their axes:
+    ``angle`` in bin units (``n_bins`` bins wrap around), ``kind`` a further label (polarity)
+    that regions do not cross."""
+    h, w = magnitude.shape
     rows, cols = np.nonzero(strong)
     weight = magnitude[rows, cols]
     regions = []
     for shift in (0.0, 0.5):
-        bins = np.floor(angle[rows, cols] + shift).astype(np.int64) % _BINS
+        bins = (np.floor(angle[rows, cols] + shift).astype(np.int64) % n_bins
+                + n_bins * kind[rows, cols])
         labels = np.zeros((h, w), np.int64)
         count = 0
-        for b in range(_BINS):
+        for b in range(n_bins * (int(kind.max(initial=0)) + 1)):
             image = np.zeros((h, w), bool)
             pick = bins == b
             image[rows[pick], cols[pick]] = True
@@ -151,18 +342,20 @@ def _support_regions(g_row, g_col, magnitude, strong) -> Segments:
                                                                                None,
                                                                                len(fit[2])), 1)
         good = (votes > 0.5) & fit[3]
-        kept.append((fit[0][good], fit[1][good], fit[2][good]))
+        kept.append((fit[0][good], fit[1][good], fit[2][good], fit[4][good]))
     m = np.concatenate([k[0] for k in kept])
     d = np.concatenate([k[1] for k in kept])
     length = np.concatenate([k[2] for k in kept])
+    contrast = np.concatenate([k[3] for k in kept])
     # centred, y up
     m = np.stack([m[:, 1] - (w - 1) / 2, (h - 1) / 2 - m[:, 0]], axis=1)
     d = np.stack([d[:, 1], -d[:, 0]], axis=1)
-    return Segments(m, d, length)
+    return Segments(m, d, length, contrast=contrast)
 
 
 def _fit_regions(label, count, rows, cols, weight):
-    """Per region: midpoint (row, col), unit direction, length and whether it is line-like."""
+    """Per region: midpoint (row, col), unit direction, length, whether it is line-like and
+    its mean ``weight`` (strength)."""
     n = count + 1
     label = label.astype(np.int64)
     sums = [np.bincount(label, weight * t, n) for t in
@@ -182,7 +375,8 @@ def _fit_regions(label, count, rows, cols, weight):
     width = np.sqrt(12.0 * minor)
     line_like = (pixels >= 8) & (length >= _MIN_LENGTH) & (width <= _MAX_WIDTH * length)
     line_like[0] = False
-    return label, (np.stack([mr, mc], axis=1), direction, length, line_like)
+    mean = sums[0] / np.maximum(pixels, 1)
+    return label, (np.stack([mr, mc], axis=1), direction, length, line_like, mean)
 
 
 def _noise(length: np.ndarray) -> np.ndarray:
@@ -212,7 +406,7 @@ def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.nda
     if len(s) < _MIN_FAMILY:
         return None
     lines = _lines(s, scale)
-    p = s.length / s.length.sum()
+    p = s.weight / s.weight.sum()
     i = rng.choice(len(s), _RANSAC, p=p)
     j = rng.choice(len(s), _RANSAC, p=p)
     vp = np.cross(lines[i], lines[j])
@@ -221,14 +415,14 @@ def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.nda
         return None
     vp /= np.linalg.norm(vp, axis=1, keepdims=True)
     limit = math.radians(_INLIER_DEG) + 2.0 * s.noise
-    support = ((_consistency(s, vp, scale) < limit[None]) * s.length[None]).sum(axis=1)
+    support = ((_consistency(s, vp, scale) < limit[None]) * s.weight[None]).sum(axis=1)
     best = vp[int(np.argmax(support))]
     for _ in range(3):  # least squares on the inliers: min sum (l . V)^2 L, |V| = 1
         inliers = _consistency(s, best[None], scale)[0] < limit
         if inliers.sum() < 2:
             return None
-        weighted = lines[inliers] * np.sqrt(s.length[inliers])[:, None]
-        best = np.linalg.svd(weighted)[2][-1]
+        weighted = lines[inliers] * np.sqrt(s.weight[inliers])[:, None]
+        best = np.linalg.svd(weighted, full_matrices=False)[2][-1]
     inliers = _consistency(s, best[None], scale)[0] < limit
     return best, inliers
 
@@ -238,32 +432,46 @@ def families(s: Segments, side: float, seed: int = 0) -> list[Segments]:
 
     A family needs ``_MIN_FAMILY`` segments, a total length of ``_MIN_SUPPORT`` image sides
     (``side``: the longer one, pixels) and ``_OVER_CHANCE`` times the length that segments of
-    random directions would line up by chance. Deterministic for a given ``seed``.
+    random directions would line up by chance. The second must lie a median ``_DISTINCT_DEG``
+    from the first family's vanishing point (and is sought among segments at least half that
+    far): two orthogonal directions
+    on a plane seen at a slant under 75 deg stay that far apart in the image (2 atan(cos
+    slant), orthographic), while stones' sides and grass a few degrees off a curved row made
+    false second families there. Deterministic for a given ``seed``.
     """
     rng = np.random.default_rng(seed)
-    found, rest = [], s
+    found, rest, share, first = [], s, 1.0, None
     for _ in range(2):
-        result = _vanishing_point(rest, side, rng)
+        pool = rest
+        if first is not None:  # perspective brings single segments closer: half the angle
+            pool = rest.take(_consistency(rest, first[None], side)[0]
+                             >= math.radians(_DISTINCT_DEG / 2))
+            share = 90.0 / (90.0 - _DISTINCT_DEG / 2)  # random directions in what is left
+        result = _vanishing_point(pool, side, rng)
         if result is None:
             break
-        _, inliers = result
-        family = rest.take(inliers)
+        vp, inliers = result
+        family = pool.take(inliers)
         # Random directions would put this share of the length within the threshold.
-        chance = (rest.length * np.minimum(1.0, 2.0 * (math.radians(_INLIER_DEG)
-                                                       + 2.0 * rest.noise) / math.pi)).sum()
+        chance = (pool.length * np.minimum(1.0, 2.0 * share * (math.radians(_INLIER_DEG)
+                                                               + 2.0 * pool.noise) / math.pi)
+                  ).sum()
         if len(family) < _MIN_FAMILY or family.length.sum() < max(_MIN_SUPPORT * side,
                                                                   _OVER_CHANCE * chance):
             break
+        if first is not None and np.median(_consistency(family, first[None], side)[0]) \
+                < math.radians(_DISTINCT_DEG):
+            break
         found.append(family)
-        rest = rest.take(~inliers)
+        rest, first = pool.take(~inliers), vp
     return found
 
 
 def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     """The family's vanishing point in centred y-up pixels, None when it is at infinity (the
     family's lines are parallel in the image within their noise)."""
-    lines = _lines(family, side) * np.sqrt(family.length)[:, None]
-    vp = np.linalg.svd(lines)[2][-1]
+    lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
+    vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
     spread = float(np.max(np.linalg.norm(family.m, axis=1))) / side + 1.0
     if abs(vp[2]) * 1e3 < spread * np.linalg.norm(vp[:2]):  # farther than 1000 image sides
         return None
@@ -274,7 +482,8 @@ def horizon_through(family: Segments, side: float) -> np.ndarray:
     """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
     a . v = c (a unit vector): every plane whose lines of this direction appear as the family
     has its horizon v . x = 1 through the vanishing point x (a . v = 0 when x is at infinity)."""
-    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1]
+    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.weight)[:, None],
+                       full_matrices=False)[2][-1]
     norm = float(np.linalg.norm(vp[:2]))
     return np.append(vp[:2] / norm, vp[2] / (norm * side))
 
@@ -293,7 +502,8 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     """
     a, c = constraint[:2], float(constraint[2])
     across = np.array([-a[1], a[0]])
-    vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None])[2][-1][:2]
+    vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None],
+                       full_matrices=False)[2][-1][:2]
     m = np.array([-vp_dir[1], vp_dir[0]])
     x, weight = family.m, family.length
     t = np.tan(np.radians(np.arange(-85.0, 85.1, 1.0))) * 2.0 / side
