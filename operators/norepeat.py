@@ -7,12 +7,21 @@ texture and inverse table, stored as two new packed float images (Non-Color); a 
 per map (``norepeat_nodes.map_group``) reads them through the shared node groups and takes
 over the source node's outgoing links. Every map's group node is fed by the same Vector (the
 active node's, so a Mapping node in front keeps working), and by one Scale and one Seed value
-node, so albedo, roughness and normal get the same cells. The user's images and nodes are kept;
-everything is checked and computed before anything is made: on error or cancel the file is
-unchanged, and one Ctrl+Z undoes the whole.
+node, so albedo, roughness and normal get the same cells. Values are precomputed as the shader
+reads them: byte sRGB images decoded to scene-linear, float images as Blender holds them,
+Non-Color data as stored.
 
-Values are precomputed as the shader reads them: byte sRGB images decoded to scene-linear,
-float images as Blender holds them, Non-Color data as stored.
+Mode **Tile Set** (Wang tiles: Cohen et al. 2003; Wei 2004): ``texsynth.norepeat.wang_tiles``
+cuts the active map's photo into ``colours**4`` tiles whose edges match, in one atlas with
+gutters; the followers' atlases come from the same photo pixels (its position map). Each atlas
+is a new packed image stored as its source is (byte or float, the same colour space: the atlas
+holds the photo's own values, so any colour space works); a group node per map
+(``norepeat_tileset.map_group``) picks each cell's tile from hashed edge colours. The Scale node
+is set so that texels keep their size (the photo's width over the tile side).
+
+The user's images and nodes are kept; everything is checked and computed before anything is
+made: on error or cancel the file is unchanged, and one Ctrl+Z undoes the whole
+(``tests/blender/test_break_repetition_undo.py``).
 """
 
 import bpy
@@ -96,8 +105,9 @@ def _float_image(name, rgba, flip):
 
 class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
     """Make the active Image Texture node's texture never repeat at render time (the other
-    selected Image Texture nodes follow with the same cells): new images and node groups, the
-    originals kept"""
+    selected Image Texture nodes follow with the same cells): Tiling and Blending for
+    stochastic photos, Tile Set for regular ones; new images and node groups, the originals
+    kept"""
 
     bl_idname = "texsynth.break_repetition"
     bl_label = "Break Repetition"
