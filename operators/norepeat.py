@@ -118,8 +118,8 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
     scale: bpy.props.FloatProperty(
         name="Scale", default=GRID_SCALE, min=0.5, max=64.0, options={"SKIP_SAVE"},
         description="Tiling and Blending: triangle-grid cells per texture tile, larger gives "
-        "smaller patches (Tile Set sets its Scale node from the tile side: texels keep their "
-        "size)")
+        "smaller patches (Tile Set sets its Scale node from the tile side instead, so that "
+        "texels keep their size)")
     seed: bpy.props.IntProperty(name="Seed", min=0, default=0, options={"SKIP_SAVE"},
                                 description="Picks the random offsets (Tile Set: the tiles "
                                 "and the edge colours)")
@@ -127,6 +127,13 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         name="Edge Colours", default=2, min=2, max=4, options={"SKIP_SAVE"},
         description="Tile Set: colours per edge direction; colours^4 tiles (more: less "
         "repetition, a larger atlas and a longer precomputation)")
+
+    def draw(self, context):
+        """The redo panel: each mode's own settings."""
+        layout = self.layout
+        layout.prop(self, "mode")
+        layout.prop(self, "colours" if self.mode == "TILE_SET" else "scale")
+        layout.prop(self, "seed")
 
     def prepare(self, context):
         """Check every map and copy it out of Blender; raises ``ValueError``."""

@@ -3,6 +3,8 @@ followers' atlases, what it refuses (changing nothing), and Cycles renders of a 
 generated brick wall repeats: the render is the numpy ``wang_tiling`` reference (given White
 Noise's edge colours), neighbouring cells match, and the repetition at the period is gone."""
 
+import types
+
 import bpy
 import numpy as np
 import pytest
@@ -100,6 +102,46 @@ def test_followers_show_the_same_tiles():
     assert grey.shape == colour.shape
     assert np.array_equal(grey[:, :, 0], colour[:, :, 0])  # the same photo pixels
     assert bpy.data.images["rough_wang_atlas"].colorspace_settings.name == "Non-Color"
+
+
+def test_an_unlinked_vector_becomes_the_uv_map_for_tile_set_too():
+    tree = material_with(generated_image(bricks()))
+    tree.links.remove(tree.nodes["source node"].inputs["Vector"].links[0])
+    assert bpy.ops.texsynth.break_repetition(mode="TILE_SET") == {"FINISHED"}
+    (group,) = _groups(tree)
+    assert group.inputs["Vector"].links[0].from_node.bl_idname == "ShaderNodeUVMap"
+
+
+def test_esc_during_the_tiles_makes_nothing(addon, monkeypatch):
+    """Esc pressed before the worker's first progress report (Job.cancel, as the modal handler
+    calls it): the tiles stop, the operator is cancelled and the file is as it was."""
+    material_with(generated_image(bricks()))
+    job = addon.operators.job
+    run, jobs = job.Job.run, []
+
+    def run_after_esc(self):
+        jobs.append(self)
+        self.cancel()
+        run(self)
+
+    monkeypatch.setattr(job.Job, "run", run_after_esc)
+    before = fingerprint()
+    assert bpy.ops.texsynth.break_repetition(mode="TILE_SET") == {"CANCELLED"}
+    (esc,) = jobs
+    assert esc.cancelled and esc.result is None and esc.error is None
+    assert fingerprint() == before
+
+
+@pytest.mark.parametrize("mode, settings", [("TILE_SET", ["mode", "colours", "seed"]),
+                                            ("TILING_AND_BLENDING", ["mode", "scale", "seed"])])
+def test_the_redo_panel_shows_each_modes_own_settings(mode, settings):
+    drawn = []
+    layout = types.SimpleNamespace(prop=lambda data, name: drawn.append(name))
+    operator = bpy.types.TEXSYNTH_OT_break_repetition
+    operator.draw(types.SimpleNamespace(layout=layout, mode=mode), bpy.context)
+    assert drawn == settings
+    properties = bpy.ops.texsynth.break_repetition.get_rna_type().properties
+    assert all(name in properties for name in drawn)
 
 
 def _other_size_follower(tmp_path):
