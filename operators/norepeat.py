@@ -3,13 +3,13 @@ at render time, the other selected Image Texture nodes of the material following
 
 Mode **Tiling and Blending** (Heitz & Neyret 2018; Deliot & Heitz 2019; Burley 2019's
 truncated Gaussian): ``texsynth.norepeat.gaussianize`` precomputes each map's Gaussianised
-texture and inverse table, stored as two new packed float images (Non-Color); a new group node
-per map (``norepeat_nodes.map_group``) reads them through the shared node groups and takes
-over the source node's outgoing links. Every map's group node is fed by the same Vector (the
-active node's, so a Mapping node in front keeps working), and by one Scale and one Seed value
-node, so albedo, roughness and normal get the same cells. The user's images and nodes are kept;
-everything is checked and computed before anything is made: on error or cancel the file is
-unchanged, and one Ctrl+Z undoes the whole.
+texture, stored as a new packed float image (Non-Color), and inverse table, held by an RGB
+Curves node; a new group node per map (``norepeat_nodes.map_group``) reads them through the
+shared node groups and takes over the source node's outgoing links. Every map's group node is
+fed by the same Vector (the active node's, so a Mapping node in front keeps working), and by
+one Scale and one Seed value node, so albedo, roughness and normal get the same cells. The
+user's images and nodes are kept; everything is checked and computed before anything is made:
+on error or cancel the file is unchanged, and one Ctrl+Z undoes the whole.
 
 Values are precomputed as the shader reads them: byte sRGB images decoded to scene-linear,
 float images as Blender holds them, Non-Color data as stored.
@@ -21,6 +21,7 @@ import numpy as np
 from .. import texsynth
 from ..texsynth.blocks.color import srgb_to_linear
 from ..texsynth.norepeat import GRID_SCALE, gaussianize, predict_memory
+from ..texsynth.norepeat.gaussian import MU
 from . import norepeat_nodes, pixels, source
 from .job import Job, JobOperator
 
@@ -29,8 +30,8 @@ MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
           "stochastic textures (gravel, grass, sand, rock); structured ones show ghosts")]
 #: The hint under the button: which mode suits which photo.
 HINT = "Stochastic photos (gravel, grass, dirt) suit Tiling and Blending"
-#: The images made per map: Gaussianised texture, table (name suffixes).
-SUFFIXES = ("tnb_gaussian", "tnb_table")
+#: The image made per map: the Gaussianised texture (name suffix; the table is a curve node).
+SUFFIXES = ("tnb_gaussian",)
 GAP = 300.0  # the new node's place below its source node
 
 
@@ -60,27 +61,23 @@ def _precompute(maps, progress=None):
 
 
 def _padded(g):
-    """The Gaussian texture as (H, W, 4) RGBA for Blender, channels beyond the map's at 1/2 (they
-    blend to 1/2 and their table rows are zero), and the table as (ROWS, L, 4)."""
+    """The Gaussian texture centred (``G - 1/2``, as the blend group takes it) as (H, W, 4) RGBA
+    for Blender and the table as curves (N, 3); a grey map's one channel is repeated into all
+    three."""
     h, w, c = g.gaussian.shape
-    gaussian = np.full((h, w, 4), 0.5, np.float32)
-    gaussian[:, :, :c] = g.gaussian
-    gaussian[:, :, 3] = 1.0
-    rows, size = norepeat_nodes.ROWS, g.lut.shape[1]
-    table = np.zeros((rows, size, 4), np.float32)
-    table[:c, :, :3] = g.lut if c == 3 else np.repeat(g.lut, 3, axis=2)
-    table[:, :, 3] = 1.0
-    return gaussian, table
+    gaussian = np.ones((h, w, 4), np.float32)
+    gaussian[:, :, :3] = (g.gaussian if c == 3 else g.gaussian[:, :, :1]) - MU
+    curves = g.curves()
+    return gaussian, curves if c == 3 else np.repeat(curves, 3, axis=1)
 
 
-def _float_image(name, rgba, flip):
-    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4): top row first when ``flip``,
-    else Blender's bottom-first row order."""
+def _float_image(name, rgba):
+    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4), top row first."""
     h, w = rgba.shape[:2]
     image = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
     image.alpha_mode = "NONE"
-    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1] if flip else rgba).ravel())
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1]).ravel())
     image.pack()
     return image
 
@@ -148,10 +145,9 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         for name, g in zip(names, result, strict=True):
             node = tree.nodes[name]
             stem = node.image.name.rsplit(".", 1)[0]
-            gaussian, table = _padded(g)
-            images = (_float_image(f"{stem}_{SUFFIXES[0]}", gaussian, flip=True),
-                      _float_image(f"{stem}_{SUFFIXES[1]}", table, flip=False))
-            group = norepeat_nodes.map_group(f"TexSynth T&B {stem}", *images,
+            gaussian, curves = _padded(g)
+            image = _float_image(f"{stem}_{SUFFIXES[0]}", gaussian)
+            group = norepeat_nodes.map_group(f"TexSynth T&B {stem}", image, curves,
                                              node.interpolation)
             made.append(self._place(tree, node, group, vector, scale, seed))
         for node in tree.nodes:

@@ -1,0 +1,63 @@
+"""Render time of ``texsynth.break_repetition``'s node groups against the plain image, per
+photo of the "No repetition" section, without its other figures (cheaper than the section).
+
+    .venv/bin/python -m benchmarks.norepeat_cost [--size 512] [--repeats 3] [--mode MODE]
+
+The section's scene (benchmarks/norepeat_renders.py, from above, 8 x 8 tiles, 16 samples, 1
+thread); plain and after rendered in turn after a warm-up render of each. Prints the medians
+of the wall-clock seconds and of the process's CPU seconds (less swayed by a loaded machine),
+their ratios after / plain and the load average.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+from benchmarks import norepeat_renders as renders
+from benchmarks.sections import norepeat
+
+
+def _times(photo, size, repeats, mode):
+    import bpy
+
+    tree = renders.scene(photo, norepeat.TILES, size, norepeat.SAMPLES)
+    plain = tree.nodes.active
+    bpy.ops.texsynth.break_repetition(mode=mode)
+    after = tree.nodes.active
+    base = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled") \
+        .inputs["Base Color"]
+    wall, cpu = {"plain": [], "after": []}, {"plain": [], "after": []}
+    for r in range(repeats + 1):
+        for name, node in (("plain", plain), ("after", after)):
+            tree.links.new(node.outputs["Color"], base)
+            start, start_cpu = time.perf_counter(), time.process_time()
+            bpy.ops.render.render()
+            if r:
+                wall[name].append(time.perf_counter() - start)
+                cpu[name].append(time.process_time() - start_cpu)
+    return ({k: statistics.median(v) for k, v in wall.items()},
+            {k: statistics.median(v) for k, v in cpu.items()})
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--size", type=int, default=norepeat.SIZE)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--mode", default="TILING_AND_BLENDING")
+    parser.add_argument("--photos", nargs="*", default=[rel for rel, _ in norepeat.PHOTOS])
+    args = parser.parse_args(argv)
+    renders.extension()
+    for rel in args.photos:
+        photo = norepeat._box(norepeat._photo(rel), norepeat.SIDE)
+        load = os.getloadavg()[0]
+        wall, cpu = _times(photo, args.size, args.repeats, args.mode)
+        print(f"| {rel} | {args.mode} | {wall['plain']:.2f} / {wall['after']:.2f} "
+              f"({wall['after'] / wall['plain']:.2f}x) | {cpu['plain']:.2f} / {cpu['after']:.2f} "
+              f"({cpu['after'] / cpu['plain']:.2f}x) | {load:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
