@@ -5,13 +5,24 @@
 - :mod:`.blend`: tiling and blending itself in numpy (the triangle grid, the hashed vertex
   offsets, the variance-preserving blend, the look-up), the reference for the Blender node group
   and a writer of never-repeating images for any engine;
+- :mod:`.tiles`: a Wang tile set made from the photo (Cohen et al. 2003), its atlas with
+  gutters and position map, and the tiling a renderer lays from hashed edge colours;
 - :mod:`.measure`: how much a rendered surface still repeats.
 """
 
 from .blend import GRID_SCALE, predict_blend_memory, tile_and_blend, triangle_grid, vertex_offsets
 from .gaussian import Gaussianized, gaussianize, predict_memory
 from .measure import period_correlation
+from .tiles import (
+    WangTiles,
+    edge_colours,
+    predict_tiles_memory,
+    wang_tiles,
+    wang_tiling,
+    wang_tiling_positions,
+)
 
 __all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend",
            "predict_blend_memory", "triangle_grid", "vertex_offsets", "period_correlation",
-           "GRID_SCALE"]
+           "GRID_SCALE", "WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions",
+           "edge_colours", "predict_tiles_memory"]
