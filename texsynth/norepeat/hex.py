@@ -82,7 +82,7 @@ def hex_weights(barycentric: np.ndarray, luminance: np.ndarray, contrast: float 
     (True, 0)
     """
     d = 1.0 - contrast + contrast * np.asarray(luminance, np.float64)
-    weights = np.maximum(d, 0.0) * np.asarray(barycentric, np.float64) ** sharpness
+    weights = np.maximum(d, 1e-4) * np.asarray(barycentric, np.float64) ** sharpness
     return weights / np.maximum(weights.sum(-1, keepdims=True), 1e-30)
 
 
