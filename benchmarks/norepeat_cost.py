@@ -2,6 +2,7 @@
 photo of the "No repetition" section, without its other figures (cheaper than the section).
 
     .venv/bin/python -m benchmarks.norepeat_cost [--size 512] [--repeats 3] [--mode MODE]
+        [--set rotation=0] [--out folder] [--photos rel ...]
 
 The section's scene (benchmarks/norepeat_renders.py, from above, 8 x 8 tiles, 16 samples, 1
 thread); plain and after rendered in turn after a warm-up render of each. Prints the
@@ -22,12 +23,12 @@ from benchmarks.sections import norepeat
 from texsynth.io import write_png
 
 
-def _times(photo, size, repeats, mode):
+def _times(photo, size, repeats, mode, props):
     import bpy
 
     tree = renders.scene(photo, norepeat.TILES, size, norepeat.SAMPLES)
     plain = tree.nodes.active
-    bpy.ops.texsynth.break_repetition(mode=mode)
+    bpy.ops.texsynth.break_repetition(mode=mode, **props)
     after = tree.nodes.active
     base = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled") \
         .inputs["Base Color"]
@@ -52,19 +53,24 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--mode", default="TILING_AND_BLENDING")
     parser.add_argument("--out", help="a folder for the renders (PNG)")
+    parser.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
+                        help="other operator settings, e.g. rotation=0")
     parser.add_argument("--photos", nargs="*", default=[rel for rel, _ in norepeat.PHOTOS])
     args = parser.parse_args(argv)
     renders.extension()
     for rel in args.photos:
         photo = norepeat._box(norepeat._photo(rel), norepeat.SIDE)
         load = os.getloadavg()[0]
-        wall, cpu, shots = _times(photo, args.size, args.repeats, args.mode)
+        props = {k: float(v) for k, v in (x.split("=") for x in args.set)}
+        wall, cpu, shots = _times(photo, args.size, args.repeats, args.mode, props)
         m = renders.measures(shots["plain"], shots["after"], args.size // norepeat.TILES)
         if args.out:
             stem = rel.rsplit("/", 1)[-1].rsplit(".", 1)[0]
             for name, image in shots.items():
-                write_png(f"{args.out}/{stem}_{args.mode.lower()}_{name}.png", image)
-        print(f"| {rel} | {args.mode} | {m['corr_plain']:.2f} -> {m['corr_after']:.2f} | "
+                write_png(f"{args.out}/{stem}_{args.mode.lower()}{''.join(args.set)}_{name}.png",
+                          image)
+        print(f"| {rel} | {args.mode} {' '.join(args.set)} | {m['corr_plain']:.2f} -> "
+              f"{m['corr_after']:.2f} | "
               f"{m['wasserstein']:.4f} | {m['gradient_ratio']:.2f} | "
               f"{wall['plain']:.2f} / {wall['after']:.2f} "
               f"({wall['after'] / wall['plain']:.2f}x) | {cpu['plain']:.2f} / {cpu['after']:.2f} "
