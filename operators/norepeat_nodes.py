@@ -22,9 +22,9 @@ Deviations: Blender's White Noise hash, not the paper's sine hash; offsets snapp
 texels, so a linear read of an offset copy blurs no more than the plain texture's (a sub-texel
 offset averages neighbouring texels, which the variance-preserving blend does not undo:
 fine-grained photos came out soft); the table as 257-point curves that Cycles bakes to 256
-entries read with linear interpolation, not a 4096-entry table image read once per channel
-(three image reads and sums replaced by one node: see docs/BENCHMARKS.md for the time and the
-renders' W1 against the exact table).
+entries read with linear interpolation, not the 4096-entry table image read once per channel
+(three image reads and sums replaced by one node; granite setts, 256 px render: W1 0.00015 and
+mean difference 0.0002 against the same group reading the exact table).
 """
 
 import bpy
