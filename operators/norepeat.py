@@ -3,13 +3,13 @@ at render time, the other selected Image Texture nodes of the material following
 
 Mode **Tiling and Blending** (Heitz & Neyret 2018; Deliot & Heitz 2019; Burley 2019's
 truncated Gaussian): ``texsynth.norepeat.gaussianize`` precomputes each map's Gaussianised
-texture and inverse table, stored as two new packed float images (Non-Color); a new group node
-per map (``norepeat_nodes.map_group``) reads them through the shared node groups and takes
-over the source node's outgoing links. Every map's group node is fed by the same Vector (the
-active node's, so a Mapping node in front keeps working), and by one Scale and one Seed value
-node, so albedo, roughness and normal get the same cells. Values are precomputed as the shader
-reads them: byte sRGB images decoded to scene-linear, float images as Blender holds them,
-Non-Color data as stored.
+texture, stored as a new packed float image (Non-Color), and inverse table, held by an RGB
+Curves node; a new group node per map (``norepeat_nodes.map_group``) reads them through the
+shared node groups and takes over the source node's outgoing links. Every map's group node is
+fed by the same Vector (the active node's, so a Mapping node in front keeps working), and by
+one Scale and one Seed value node, so albedo, roughness and normal get the same cells. Values
+are precomputed as the shader reads them: byte sRGB images decoded to scene-linear, float
+images as Blender holds them, Non-Color data as stored.
 
 Mode **Tile Set** (Wang tiles: Cohen et al. 2003; Wei 2004): ``texsynth.norepeat.wang_tiles``
 cuts the active map's photo into ``colours**4`` tiles whose edges match, in one atlas with
@@ -18,6 +18,13 @@ is a new packed image stored as its source is (byte or float, the same colour sp
 holds the photo's own values, so any colour space works); a group node per map
 (``norepeat_tileset.map_group``) picks each cell's tile from hashed edge colours. The Scale node
 is set so that texels keep their size (the photo's width over the tile side).
+
+Mode **Hex Tiling** (Mikkelsen 2022): no precomputation; a group node per map
+(``norepeat_hex_nodes.map_group``) reads the user's own image three times, on hexagonal cells
+each with a random offset and rotation, blended with the paper's luminance-weighted sharpened
+weights; the followers take the active map's luminances, so all maps blend alike, and a
+follower that is a normal map (Non-Color, and its values decode to unit vectors pointing out)
+has its normals turned with the cells.
 
 The user's images and nodes are kept; everything is checked and computed before anything is
 made: on error or cancel the file is unchanged, and one Ctrl+Z undoes the whole
@@ -30,7 +37,9 @@ import numpy as np
 from .. import texsynth
 from ..texsynth.blocks.color import srgb_to_linear
 from ..texsynth.norepeat import GRID_SCALE, gaussianize, predict_memory
-from . import norepeat_nodes, norepeat_tileset, pixels, source
+from ..texsynth.norepeat.gaussian import MU
+from ..texsynth.norepeat.hex import CONTRAST, SHARPNESS
+from . import norepeat_hex_nodes, norepeat_nodes, norepeat_tileset, pixels, source
 from .job import Job, JobOperator
 
 MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
@@ -38,11 +47,15 @@ MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
           "stochastic textures (gravel, grass, sand, rock); structured ones show ghosts"),
          ("TILE_SET", "Tile Set",
           "Wang tiles cut from the photo, picked per cell so that neighbours always match, "
-          "no blending: for regular and structured textures (bricks, pavers, setts)")]
+          "no blending: for regular and structured textures (bricks, pavers, setts)"),
+         ("HEX_TILING", "Hex Tiling",
+          "Randomly offset and turned copies on hexagonal cells, the brighter copy winning "
+          "at a sharp seam (Mikkelsen 2022): for structured textures (layered rock, bark) and "
+          "normal maps; no precomputation")]
 #: The hint under the buttons: which mode suits which photo.
-HINT = "Gravel, grass: Tiling and Blending; bricks, setts, pavers: Tile Set"
-#: The images made per map: Gaussianised texture, table (name suffixes).
-SUFFIXES = ("tnb_gaussian", "tnb_table")
+HINT = "Gravel, grass: Tiling and Blending; bricks, setts: Tile Set; rock: Hex Tiling"
+#: The image made per map: the Gaussianised texture (name suffix; the table is a curve node).
+SUFFIXES = ("tnb_gaussian",)
 GAP = 300.0  # the new node's place below its source node
 
 
@@ -66,6 +79,17 @@ def _shader_values(image, values, encoding):
     return values
 
 
+def _looks_like_normals(values):
+    """A tangent-space normal map's content: 3 channels whose decoded vectors ``2 v - 1`` are
+    about unit long, pointing out of the surface (blue above 1/2) and tilted both ways on
+    average (red and green about 1/2)."""
+    if values.shape[2] != 3:
+        return False
+    n = 2.0 * values.reshape(-1, 3)[::max(1, values.shape[0] * values.shape[1] // 65536)] - 1.0
+    return bool(np.median(np.abs(np.linalg.norm(n, axis=1) - 1.0)) < 0.1
+                and np.median(n[:, 2]) > 0.3 and np.all(np.abs(n[:, :2].mean(axis=0)) < 0.2))
+
+
 def _precompute(maps, progress=None):
     """Each map's ``Gaussianized`` (the job's work: numpy only)."""
     report = texsynth.Progress(progress)
@@ -78,27 +102,23 @@ def _precompute(maps, progress=None):
 
 
 def _padded(g):
-    """The Gaussian texture as (H, W, 4) RGBA for Blender, channels beyond the map's at 1/2 (they
-    blend to 1/2 and their table rows are zero), and the table as (ROWS, L, 4)."""
+    """The Gaussian texture centred (``G - 1/2``, as the blend group takes it) as (H, W, 4) RGBA
+    for Blender and the table as curves (N, 3); a grey map's one channel is repeated into all
+    three."""
     h, w, c = g.gaussian.shape
-    gaussian = np.full((h, w, 4), 0.5, np.float32)
-    gaussian[:, :, :c] = g.gaussian
-    gaussian[:, :, 3] = 1.0
-    rows, size = norepeat_nodes.ROWS, g.lut.shape[1]
-    table = np.zeros((rows, size, 4), np.float32)
-    table[:c, :, :3] = g.lut if c == 3 else np.repeat(g.lut, 3, axis=2)
-    table[:, :, 3] = 1.0
-    return gaussian, table
+    gaussian = np.ones((h, w, 4), np.float32)
+    gaussian[:, :, :3] = (g.gaussian if c == 3 else g.gaussian[:, :, :1]) - MU
+    curves = g.curves()
+    return gaussian, curves if c == 3 else np.repeat(curves, 3, axis=1)
 
 
-def _float_image(name, rgba, flip):
-    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4): top row first when ``flip``,
-    else Blender's bottom-first row order."""
+def _float_image(name, rgba):
+    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4), top row first."""
     h, w = rgba.shape[:2]
     image = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
     image.alpha_mode = "NONE"
-    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1] if flip else rgba).ravel())
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1]).ravel())
     image.pack()
     return image
 
@@ -127,6 +147,16 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         name="Edge Colours", default=2, min=2, max=4, options={"SKIP_SAVE"},
         description="Tile Set: colours per edge direction; colours^4 tiles (more: less "
         "repetition, a larger atlas and a longer precomputation)")
+    rotation: bpy.props.FloatProperty(
+        name="Rotation", default=1.0, min=0.0, max=1.0, options={"SKIP_SAVE"},
+        description="Hex Tiling: the cells' angles span this fraction of a full turn (0 for "
+        "textures with a direction, such as layers or grain)")
+    contrast: bpy.props.FloatProperty(
+        name="Contrast", default=CONTRAST, min=0.0, max=1.0, options={"SKIP_SAVE"},
+        description="Hex Tiling: how much the brighter copy wins at the seams (luminance)")
+    sharpness: bpy.props.FloatProperty(
+        name="Sharpness", default=SHARPNESS, min=1.0, max=64.0, options={"SKIP_SAVE"},
+        description="Hex Tiling: the weights' exponent; larger gives narrower seams")
 
     def draw(self, context):
         """The redo panel: each mode's own settings."""
@@ -134,6 +164,9 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         layout.prop(self, "mode")
         layout.prop(self, "colours" if self.mode == "TILE_SET" else "scale")
         layout.prop(self, "seed")
+        if self.mode == "HEX_TILING":
+            for name in ("rotation", "contrast", "sharpness"):
+                layout.prop(self, name)
 
     def prepare(self, context):
         """Check every map and copy it out of Blender; raises ``ValueError``."""
@@ -152,13 +185,16 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
             budget_need = max(budget_need, predict_memory((h, w, 3)) + 32.0 * w * h)
         texsynth.validation.check_memory(budget_need, "Break Repetition",
                                          "use smaller images")
-        maps = []
+        maps, normals = [], []
         for node in nodes:
             values, encoding = pixels.read_exemplar(node.image)
             if min(values.shape[:2]) < 2:
                 raise ValueError(f"Image '{node.image.name}' is {values.shape[1]} x "
                                  f"{values.shape[0]} pixels; it needs at least 2 x 2")
             maps.append((node.name, _shader_values(node.image, values, encoding)))
+            normals.append(encoding.is_data and _looks_like_normals(values))
+        if self.mode == "HEX_TILING":  # nothing to precompute: the job only passes the flags
+            return Job(lambda progress=None: normals), (src, [n.name for n in nodes])
         return Job(_precompute, maps), (src, [n.name for n in nodes])
 
     def _prepare_tiles(self, src, nodes):
@@ -195,26 +231,42 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
             node.label = f"TexSynth {label}"
             node.outputs[0].default_value = value
             node.location = (x, y - GAP + dy)
-        groups = norepeat_tileset.map_groups(result, [tree.nodes[n] for n in names]) if tiles \
-            else [self._blend_group(tree.nodes[n], g) for n, g in zip(names, result, strict=True)]
+        if tiles:
+            groups = norepeat_tileset.map_groups(result, [tree.nodes[n] for n in names])
+        elif self.mode == "HEX_TILING":
+            groups = [self._hex_group(tree.nodes[n], normal, k > 0)
+                      for k, (n, normal) in enumerate(zip(names, result, strict=True))]
+        else:
+            groups = [self._blend_group(tree.nodes[n], g) for n, g in zip(names, result,
+                                                                         strict=True)]
         made = [self._place(tree, tree.nodes[name], group, vector, scale, seed)
                 for name, group in zip(names, groups, strict=True)]
+        if self.mode == "HEX_TILING":
+            norepeat_hex_nodes.link(tree, made, self.rotation, self.contrast, self.sharpness)
         for node in tree.nodes:
             node.select = False
         made[0].select = True
         tree.nodes.active = made[0]
-        done = "set with Wang tiles" if tiles else "tiled and blended"
+        done = {"TILE_SET": "set with Wang tiles", "HEX_TILING": "hex-tiled"}.get(
+            self.mode, "tiled and blended")
         return (f"Break Repetition: {len(made)} map(s) {done}: "
                 + ", ".join(f"'{n.node_tree.name}'" for n in made))
 
     @staticmethod
     def _blend_group(node, g):
-        """Tiling and Blending: one map's two new images and its group."""
+        """Tiling and Blending: one map's new image and its group."""
         stem = node.image.name.rsplit(".", 1)[0]
-        gaussian, table = _padded(g)
-        images = (_float_image(f"{stem}_{SUFFIXES[0]}", gaussian, flip=True),
-                  _float_image(f"{stem}_{SUFFIXES[1]}", table, flip=False))
-        return norepeat_nodes.map_group(f"TexSynth T&B {stem}", *images, node.interpolation)
+        gaussian, curves = _padded(g)
+        image = _float_image(f"{stem}_{SUFFIXES[0]}", gaussian)
+        return norepeat_nodes.map_group(f"TexSynth T&B {stem}", image, curves, node.interpolation)
+
+    @staticmethod
+    def _hex_group(node, normal, follower):
+        """Hex Tiling: one map's group over its own image."""
+        stem = node.image.name.rsplit(".", 1)[0]
+        return norepeat_hex_nodes.map_group(f"TexSynth Hex {stem}", node.image,
+                                            node.interpolation, normal=normal,
+                                            follower=follower)
 
     @staticmethod
     def _place(tree, source_node, group, vector, scale, seed):

@@ -29,7 +29,8 @@ SIDE = 256  # the photo box-averaged to this side for the renders
 SIZE, SAMPLES, TILES, GRAZING_TILES = 512, 16, 8, 16
 GOALS = {"corr": 0.3, "wasserstein": 0.03, "gradient": (0.85, 1.15), "time": 2.0}
 #: The operator's modes, in the table's and the picture's order.
-MODES = (("TILING_AND_BLENDING", "Tiling and Blending"), ("TILE_SET", "Tile Set"))
+MODES = (("TILING_AND_BLENDING", "Tiling and Blending"), ("TILE_SET", "Tile Set"),
+         ("HEX_TILING", "Hex Tiling"))
 
 
 def _photo(rel):

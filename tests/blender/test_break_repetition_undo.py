@@ -7,7 +7,7 @@ import pytest
 from scenes import fingerprint, generated_image, material_with, noise
 
 
-@pytest.mark.parametrize("mode", ["TILING_AND_BLENDING", "TILE_SET"])
+@pytest.mark.parametrize("mode", ["TILING_AND_BLENDING", "TILE_SET", "HEX_TILING"])
 def test_one_ctrl_z_undoes_break_repetition(mode):
     material_with(generated_image(noise(64, 64), colorspace="sRGB"))
     bpy.ops.ed.undo_push(message="before")
