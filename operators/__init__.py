@@ -12,7 +12,7 @@ Read in this order:
   (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``),
   ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile),
   ``norepeat.py`` (``texsynth.break_repetition``: never repeating at render time; its node
-  groups in ``norepeat_nodes.py``);
+  groups in ``norepeat_nodes.py``, the Tile Set mode's in ``norepeat_tileset.py``);
 * ``panels.py``: every panel;
 * helpers: ``source.py`` (which image and node), ``pixels.py`` (Blender pixels to arrays and
   back), ``output.py`` (the new image datablock or file), ``nodes.py`` (the new node).

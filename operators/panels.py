@@ -168,7 +168,9 @@ class TEXSYNTH_PT_norepeat(SidebarPanel, bpy.types.Panel):
         if _source_or_reason(layout, context) is None:
             return
         layout.label(text=norepeat.HINT, icon="INFO")
-        layout.operator("texsynth.break_repetition", icon="MOD_ARRAY")
+        row = layout.row(align=True)
+        for mode, label, _ in norepeat.MODES:
+            row.operator("texsynth.break_repetition", text=label, icon="MOD_ARRAY").mode = mode
 
 
 class TEXSYNTH_PT_composite(SidebarPanel, bpy.types.Panel):

@@ -5,10 +5,11 @@ the plain texture repeats 8 x 8 times, before and after."""
 import bpy
 import numpy as np
 import pytest
-from scenes import fingerprint, generated_image, links, material_with, noise
+from scenes import fingerprint, generated_image, links, material_with, noise, pixels_of
 
 from benchmarks import norepeat_renders
 from texsynth import io
+from texsynth.norepeat import gaussianize
 
 GRID, BLEND = "TexSynth Triangle Grid", "TexSynth Variance-Preserving Blend"
 
@@ -34,10 +35,37 @@ def test_the_tree_is_rewired_and_the_users_node_and_image_are_kept():
     inner = {n.node_tree.name for n in _groups(group.node_tree)}
     assert inner == {GRID, BLEND}
     images = {n.image for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"}
-    assert {i.name for i in images} == {"source_tnb_gaussian", "source_tnb_table"}
+    assert {i.name for i in images} == {"source_tnb_gaussian"}
     for image in images:
         assert image.packed_file is not None and image.is_float
         assert image.colorspace_settings.name == "Non-Color"
+
+
+@pytest.mark.parametrize("channels", [3, 1])
+def test_the_table_curves_give_the_exact_tables_colours(channels):
+    """The RGB Curves node standing for the inverse table (texsynth.norepeat.Gaussianized):
+    at any centred Gaussian value, within a 16-bit step of the 4096-entry table, every
+    channel (a grey map's curve in all three)."""
+    image = generated_image(noise(32, 32, channels=channels), colorspace="Non-Color")
+    values = pixels_of(image)[:, :, :channels]  # as the operator reads them: bytes
+    tree = material_with(image)
+    assert bpy.ops.texsynth.break_repetition() == {"FINISHED"}
+    (group,) = _groups(tree)
+    (curves,) = [n for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeRGBCurve"]
+    mapping = curves.mapping
+    mapping.initialize()
+    g = gaussianize(values)
+    x = np.linspace(0.0, 1.0, 301, dtype=np.float32)
+    exact = g.look_up(np.repeat(x[:, None], channels, axis=1))
+    exact = np.repeat(exact, 3, axis=1) if channels == 1 else exact
+    got = np.array([[mapping.evaluate(mapping.curves[k], mapping.evaluate(
+        mapping.curves[3], float(v) - 0.5)) for k in range(3)] for v in x])
+    assert np.abs(got - exact).max() < 2 / 255
+    gaussian = next(n.image for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage")
+    stored = np.empty(len(gaussian.pixels), np.float32)
+    gaussian.pixels.foreach_get(stored)
+    stored = stored.reshape(32, 32, 4)[::-1, :, :3]
+    assert np.allclose(stored, g.gaussian[:, :, :1] - 0.5 if channels == 1 else g.gaussian - 0.5)
 
 
 def test_an_unlinked_vector_becomes_the_uv_map_the_image_node_used():

@@ -32,13 +32,17 @@ from scipy.special import ndtr, ndtri
 from .. import validation
 from ..blocks.color import ColorPCA
 
-__all__ = ["Gaussianized", "gaussianize", "predict_memory", "MU", "SIGMA", "LUT_SIZE"]
+__all__ = ["Gaussianized", "gaussianize", "predict_memory", "MU", "SIGMA", "LUT_SIZE",
+           "CURVE_POINTS"]
 
 #: Mean and standard deviation of the Gaussian (Deliot & Heitz 2019, 1.3: 0.5 and 1/6).
 MU, SIGMA = 0.5, 1.0 / 6.0
 #: Entries of the inverse table per channel (Deliot & Heitz 2019 use 128 at 8 bits; more here
 #: so the table's steps stay under a 16-bit value's).
 LUT_SIZE = 4096
+#: Points of the table as curves (``Gaussianized.curves``): Blender's curves hold 257 samples
+#: (``CM_TABLE + 1``), Cycles bakes 256.
+CURVE_POINTS = 257
 #: Largest exemplar side taken (pixels).
 MAX_SIDE = validation.MAX_SIDE
 
@@ -66,6 +70,32 @@ class Gaussianized:
             hi = self.lut[k][np.minimum(j0[..., k] + 1, size - 1)]
             out += lo + t[..., k, :] * (hi - lo)
         return out
+
+
+    def curves(self, points: int = CURVE_POINTS) -> np.ndarray:
+        """The table as one curve per output channel, (points, C): channel ``j``'s colour at
+        the Gaussian value ``i / (points - 1)`` of every channel, what a renderer's per-channel
+        curve node (Blender's RGB Curves) reads in one go instead of ``C`` table reads. Only
+        without PCA (``decorrelate=False``): then output channel ``j`` depends on Gaussian
+        channel ``j`` alone.
+
+        Examples
+        --------
+        >>> photo = np.random.default_rng(0).random((32, 32, 3)).astype(np.float32)
+        >>> g = gaussianize(photo, lut_size=256)
+        >>> g.curves(65).shape
+        (65, 3)
+        >>> x = np.full((1, 3), 0.25, np.float32)
+        >>> bool(np.allclose(g.curves(65)[16], g.look_up(x)[0]))
+        True
+        """
+        points = validation.whole(points, "points", 2, 65536)
+        basis = self.pca.basis
+        if not np.allclose(basis, np.diag(np.diag(basis))):
+            raise ValueError("the table mixes channels (decorrelate=True): it is no "
+                             "per-channel curve")
+        x = np.linspace(0.0, 1.0, points, dtype=np.float32)
+        return self.look_up(np.repeat(x[:, None], self.gaussian.shape[2], axis=1))
 
 
 def predict_memory(shape) -> float:
