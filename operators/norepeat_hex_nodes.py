@@ -4,9 +4,10 @@ numpy reference.
 
 * **TexSynth Hex Grid** (Vector, Scale, Seed, Rotation, Texels -> UV 1-3, Angles, Weights): the
   triangle grid of tiling and blending, its vertices read as the centres of hexagonal cells;
-  each of the point's three cells turns the texture about its centre by a hashed angle in
-  ``[-pi, pi) * Rotation`` and offsets it by a hashed amount snapped to whole texels (one White
-  Noise texture of the vertex and the seed gives both); the barycentric weights;
+  each of the point's three cells turns the texture by a hashed angle in ``[-pi, pi) *
+  Rotation`` (about the origin: see ``texsynth.norepeat.hex``) and offsets it by a hashed
+  amount snapped to whole texels (one White Noise texture of the vertex and the seed gives
+  both); the barycentric weights;
 * **TexSynth Hex Weights** (Weights, Luminance, Contrast, Sharpness -> Weights): the paper's
   sharpened, luminance-weighted blend weights ``mix(1, L_i, contrast) * w_i ** sharpness``,
   normalised (section 4);
@@ -29,7 +30,6 @@ from .norepeat_nodes import TAG, VERSION, _finish, _new_group
 
 GRID = "TexSynth Hex Grid"
 WEIGHTS = "TexSynth Hex Weights"
-SQRT3_2 = 3 ** 0.5 / 2
 PI = 3.141592653589793
 
 
@@ -40,10 +40,6 @@ def _build_grid():
                              [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
                               ("Angles", "Vector"), ("Weights", "Vector")])
     uv, s, seed = i["Vector"], i["Scale"], i["Seed"]
-
-    def per_s(x, y):  # the constant vector (x, y, 0) / Scale (folds away)
-        return b.combine(b.math("DIVIDE", x, s), b.math("DIVIDE", y, s), 0.0)
-
     # the triangle grid (texsynth.norepeat.blend.triangle_grid), as in norepeat_nodes
     along = b.combine(s, b.math("MULTIPLY", s, 2 / 3 ** 0.5), 0.0)
     across = b.combine(0.0, b.math("MULTIPLY", s, -1 / 3 ** 0.5), 0.0)
@@ -57,23 +53,19 @@ def _build_grid():
                 b.vector("ADD", base, b.combine(0.0, 1.0, seed)),
                 b.vector("MULTIPLY_ADD", above, (1.0, 1.0, 0.0),
                          b.vector("ADD", base, b.combine(0.0, 0.0, seed))))
-    # cell centres: SKEW^-1 vertex / Scale = (x, x / 2 + sqrt3 / 2 y) / Scale
-    centre = b.vector("MULTIPLY_ADD", base, per_s(1.0, SQRT3_2),
-                      b.scale(per_s(0.0, 0.5), b.separate(base)[0]))
-    centres = (b.vector("ADD", centre, per_s(1.0, 0.5)),
-               b.vector("ADD", centre, per_s(0.0, SQRT3_2)),
-               b.vector("MULTIPLY_ADD", above, per_s(1.0, 0.5 + SQRT3_2), centre))
     texel = b.vector("DIVIDE", (1.0, 1.0, 1.0), i["Texels"])
     spread = b.math("MULTIPLY", i["Rotation"], 2 * PI)
     start = b.math("MULTIPLY", i["Rotation"], -PI)
     uvs, angles = [], []
-    for vertex, c in zip(vertices, centres, strict=True):
+    for vertex in vertices:
         noise = b.node("ShaderNodeTexWhiteNoise", (vertex,), noise_dimensions="3D")
-        color = noise.outputs["Color"]
-        angle = b.math("MULTIPLY_ADD", b.separate(color)[2], spread, start)
-        turned = b.node("ShaderNodeVectorRotate", (uv, c, None, angle), rotation_type="Z_AXIS")
-        # offset: the first two hashed values snapped to whole texels (the third is below 1: 0)
-        uvs.append(b.vector("ADD", turned.outputs["Vector"], b.vector("SNAP", color, texel)))
+        # the angle from the Value hash, the offset from the Color one's first two values
+        # snapped to whole texels (the third is below 1: 0); turned about the origin
+        angle = b.math("MULTIPLY_ADD", noise.outputs["Value"], spread, start)
+        turned = b.node("ShaderNodeVectorRotate", (uv, None, None, angle),
+                        rotation_type="Z_AXIS")
+        offset = b.vector("SNAP", noise.outputs["Color"], texel)
+        uvs.append(b.vector("ADD", turned.outputs["Vector"], offset))
         angles.append(angle)
     _finish(b, uvs + [b.combine(*angles), weights])
     return group

@@ -3,7 +3,7 @@ reference the Blender node group follows, and a writer of never-repeating images
 
 The triangle grid of tiling and blending (:func:`.blend.triangle_grid`) read as a hexagonal
 grid: each grid vertex is the centre of a hexagonal cell, which carries a random offset AND a
-random rotation about its centre. A point blends the three copies of its triangle's vertices
+random rotation. A point blends the three copies of its triangle's vertices
 with the paper's sharpened weights (section 4): the barycentric weights raised to a power, each
 scaled by the luminance of its copy mixed towards 1 by a contrast, then normalised, so that
 the brighter, more salient copy wins and the cells meet along the texture's own features
@@ -16,6 +16,8 @@ Deviations, one line each:
 - the angle is a third hashed value per vertex, uniform in ``[-pi, pi) * rotation``, not the
   paper's ``|x y| + |x + y| + pi``; the offsets are the same hash as tiling and blending's,
   snapped to whole texels;
+- each copy is turned about the texture's origin, not its cell's centre: the two differ by a
+  shift per cell, which the uniformly random offset absorbs (the renderer saves the centres);
 - luminance from Rec. 709 weights of the values as read (scene-linear colour), not Rec. 601;
 - no gain function (the paper's ``Gain3`` at its default ``r = 0.5`` is the identity);
 - normal maps are blended as unit vectors and renormalised, not as surface gradients.
@@ -27,7 +29,7 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from .. import validation
-from .blend import GRID_SCALE, SKEW, triangle_grid, vertex_offsets
+from .blend import GRID_SCALE, triangle_grid, vertex_offsets
 
 __all__ = ["hex_tile", "hex_weights", "predict_hex_memory", "CONTRAST", "SHARPNESS",
            "LUMA"]
@@ -40,15 +42,14 @@ LUMA = np.array([0.2126, 0.7152, 0.0722], np.float32)
 ANGLE_SALT = 0x5F3759DF
 
 
-def cell_frames(vertices: np.ndarray, seed: int, rotation: float, scale: float, texels):
-    """Per grid vertex (..., 2): the cell's centre in texture space (..., 2), its angle
-    (radians) and its offset (..., 2) snapped to the ``texels`` (w, h) grid."""
-    centre = np.einsum("ij,...j->...i", np.linalg.inv(SKEW), vertices.astype(np.float64)) / scale
+def cell_frames(vertices: np.ndarray, seed: int, rotation: float, texels):
+    """Per grid vertex (..., 2): its cell's angle (radians) and offset (..., 2) snapped to the
+    ``texels`` (w, h) grid."""
     texels = np.asarray(texels, np.float64)
     offset = np.floor(vertex_offsets(vertices, seed) * texels) / texels
     angle = (2.0 * vertex_offsets(vertices, (seed ^ ANGLE_SALT) & 0xFFFFFFFF)[..., 0] - 1.0) \
         * np.pi * rotation
-    return centre, angle, offset
+    return angle, offset
 
 
 def _rotate(xy: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -127,8 +128,8 @@ def hex_tile(texture, width: int, height: int, *, scale: float = GRID_SCALE, see
 
     References
     ----------
-    Mikkelsen 2022, 3 (the hexagonal grid as the triangle grid's vertices, rotation about each
-    cell's centre), 4 (the luminance-weighted, sharpened blend), 5.1 (normals turned with the
+    Mikkelsen 2022, 3 (the hexagonal grid as the triangle grid's vertices, a rotation per
+    cell), 4 (the luminance-weighted, sharpened blend), 5.1 (normals turned with the
     cell).
 
     Examples
@@ -159,8 +160,8 @@ def hex_tile(texture, width: int, height: int, *, scale: float = GRID_SCALE, see
     barycentric, vertices = triangle_grid(uv, scale)
     copies, luminance = [], []
     for i in range(3):
-        centre, angle, offset = cell_frames(vertices[..., i, :], seed, rotation, scale, (w, h))
-        st = _rotate(uv - centre, angle) + centre + offset
+        angle, offset = cell_frames(vertices[..., i, :], seed, rotation, (w, h))
+        st = _rotate(uv, angle) + offset
         copy = _read(a, st)
         if normal:  # the texture turned by -angle on the surface: so are its normals
             n = 2.0 * copy[..., :3] - 1.0
