@@ -39,7 +39,8 @@ Deviations, one line each:
 - rows of the band whose mean colour (across the arm) is like none of the rows farther than
   ``band`` from the photo's edges are not matched (Efros & Freeman weigh the whole overlap
   alike): on the brick wall photo a dark ledge along the bottom edge drew patches that
-  squashed a course to continue it, and the cuts kept pieces of it;
+  squashed a course to continue it, and the cuts kept pieces of it; nor may the cuts with
+  the photo keep such a row (they pass between it and the band's middle where they can);
 - no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
   the photo's edges is unchanged, and every changed pixel is a photo pixel.
 """
@@ -270,10 +271,13 @@ def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, repo
     return strip, at
 
 
-def _cut(a, b, lo, hi):
+def _cut(a, b, lo, hi, barred=None):
     """The closed minimum error cut between arm contents ``a`` and ``b`` through rows
-    ``lo .. hi - 1``: its row at each position along the arm."""
+    ``lo .. hi - 1``: its row at each position along the arm. ``barred`` (hi - lo,): rows the
+    cut may not pass where it can go elsewhere."""
     e = np.einsum("ijc,ijc->ij", a[lo:hi] - b[lo:hi], a[lo:hi] - b[lo:hi])
+    if barred is not None and barred.any():
+        e[barred] = e.sum() + 1.0
     return lo + min_error_path(e.T, closed=True)
 
 
@@ -302,9 +306,13 @@ def _arm(kept, kept_at, unlike, source, lay, rng, report, used):
                                below < lay.m + lay.b,
                                source, lay, rng, report.span(0.5, 0.95), used)
     current[seam - d:], current_at[seam - d:] = second, second_at
-    top = _cut(first, kept, lay.m, inner)
+    # The cuts with the photo keep none of its unlike rows: the photo is kept on the rows before
+    # the top cut (after the bottom one), so the cut may not pass below (above) one of them.
+    count = np.concatenate([[0], np.cumsum(unlike)])  # unlike rows before each row
+    end = lay.m + lay.b
+    top = _cut(first, kept, lay.m, inner, count[lay.m:inner] > count[lay.m])
     middle = _cut(first, current, seam - d, seam + d)
-    bottom = _cut(current, kept, outer, lay.m + lay.b)
+    bottom = _cut(current, kept, outer, end, count[outer + 1:end + 1] < count[end])
     r = rows[:, None]
     out = np.where(((r < top) | (r > bottom))[:, :, None], kept, current)
     out_at = np.where(((r < top) | (r > bottom))[:, :, None], kept_at, current_at)
