@@ -20,7 +20,9 @@ Deviations from the section, one line each:
   slant along the vanishing line that homogeneity gives (on the renders, homogeneity alone was
   nearly flat in slant for a fixed vanishing line, leaning to long focal lengths);
 - a lone line family's spacing is taken only where the texture's homogeneity does not rule its
-  vanishing line out (:func:`_spacing_conflict`).
+  vanishing line out (:func:`_spacing_conflict`);
+- with the focal length unknown, two line families that stay parallel read as frontal under a
+  prior over the lenses photos come from (``_LENS_MM``; :mod:`~texsynth.plane.combine`).
 """
 
 from __future__ import annotations
@@ -68,6 +70,9 @@ class PlaneEstimate:
     tiles and planks, where the isotropy assumption fails; beyond 1 it widens the uncertainty of
     an estimate that rests on the texture). ``line_families``: how many families of
     straight lines (0, 1 or 2: mortar joints, tile edges, seams) entered the estimate.
+    ``lens_prior``: with the focal length unknown, the lines stayed parallel under every lens
+    of 13-200 mm (35 mm equivalent): the view is frontal to within ``slant_uncertainty``, as
+    measured under that prior (an orthographic or telephoto photo beyond it is not covered).
     """
 
     slant: float
@@ -85,6 +90,7 @@ class PlaneEstimate:
     method: str
     image_size: tuple[int, int]
     line_families: int = 0
+    lens_prior: bool = False
 
     @property
     def orthographic(self) -> bool:
@@ -111,6 +117,8 @@ _F_TYPICAL = 1.0     # image sides: a 36 mm-equivalent lens, between phones' 26 
 _F_SPREAD = 0.7      # natural-log sd of that prior: 0.5 to 2 image sides within one sd
 _SPACING_CONFLICT = 25.0  # noise units of homogeneity a family's spacing may cost the texture
 _MIN_ACROSS = 64     # analysis pixels across the shorter side: the 64 x 64 minimum's windows
+_LENS_MM = (13.0, 200.0)  # the lenses photos come from, 35 mm equivalent (phones to telephoto)
+_DIAGONAL_35MM = math.hypot(36.0, 24.0)  # the 35 mm frame's diagonal the equivalent refers to
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -345,7 +353,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     mask = texture_mask(small)
     fine = spectra(small, mask, _MOMENT_W_MAX, _WINDOW)
     crit = Criterion(fine).band_limited(_W_MAX)
-    found, spaced = [], None
+    found, spaced, under_prior = [], None, False
     # A telephoto view (field of view under about 5 degrees) has no perspective left to read
     # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
     telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
@@ -385,9 +393,11 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     if found and spaced is None:  # the texture fit with the floors _result would state
         prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
                                    floor ** 2])
+        lens = tuple(max(small.shape) / (mm / _DIAGONAL_35MM * math.hypot(*small.shape))
+                     for mm in _LENS_MM[::-1])  # w = side / f, the longest lens first
         both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
-                       None if focal_px is None else focal_px / k)
+                       None if focal_px is None else focal_px / k, lens)
         if both is None or (anisotropy <= _ANISOTROPY_OK
                             and _distance(both, fit, prior if fit.spread is None else
                                           prior - fit.cov + fit.spread) > _CONFLICT):
@@ -396,13 +406,15 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
             fit = _Fit(both.p, both.focal, both.cov, both.ambiguous,
                        fit.isotropy_based and not both.determined, both.focal_sd)
             floor = _SYSTEMATIC if both.determined else floor
+            under_prior = both.under_prior
     slant, tilt = angles_from_gradient(fit.p)
     if fit.focal is None:  # p and -p are the same orthographic view
         tilt %= 180.0
     focal = None if fit.focal is None else fit.focal * k
     estimated = focal is not None and focal_px is None
     return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
-                   _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor)
+                   _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor,
+                   under_prior)
 
 
 def _spacing_conflict(crit: Criterion, v_texture, v_spaced, f: float) -> float:
@@ -433,7 +445,7 @@ def _anisotropy(crit: Criterion, fit: _Fit) -> float:
 
 
 def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy, isotropy_based,
-            method, size, line_families, floor) -> PlaneEstimate:
+            method, size, line_families, floor, under_prior=False) -> PlaneEstimate:
     """The record, with uncertainties (one sigma, degrees) and confidence.
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
@@ -441,15 +453,18 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
     Near frontal views the tilt may be off by more: by as much as moves the normal 8 deg
     (sin(slant) sin(dtau / 2) = sin 4 deg: above 30 deg under a slant of 15.6, any tilt under
     4 deg), so a precise frontal reading is not a guess for want of a receding direction.
+    Under the lens prior the view is frontal within the covariance of p: the slant's sigma is
+    the normal's, and no receding direction is claimed (no tilt factor).
     """
     s_slant = min(90.0, math.hypot(math.sqrt(max(cov[0, 0], 0.0)), floor))  # slant is in [0, 90)
     s_tilt = min(180.0, math.hypot(math.sqrt(max(cov[1, 1], 0.0)), floor))
     if isotropy_based:
         s_slant = min(90.0, math.hypot(s_slant, _ISOTROPY_FLOOR))
-    s_normal = math.hypot(s_slant, math.sin(math.radians(slant)) * s_tilt)
+    s_normal = s_slant if under_prior else math.hypot(s_slant,
+                                                      math.sin(math.radians(slant)) * s_tilt)
     confidence = 1.0 - math.exp(-(8.0 / s_normal) ** 2)  # floor: _SYSTEMATIC or wider
     half = math.sin(math.radians(4.0)) / max(math.sin(math.radians(slant)), 1e-12)
-    if half < 1.0:  # else no tilt error moves the normal by 8 deg (slant under 4 deg)
+    if half < 1.0 and not under_prior:  # else no tilt error moves the normal 8 deg (slant < 4)
         tilt_ok = max(30.0, 2.0 * math.degrees(math.asin(half)))
         confidence *= math.erf(tilt_ok / (s_tilt * math.sqrt(2.0)))
     n = normal_from_angles(slant, tilt)
@@ -461,6 +476,6 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
         normal_uncertainty=float(s_normal),
         focal_uncertainty=None if focal_sd is None or focal is None else float(focal * focal_sd),
         anisotropy=float(math.sqrt(max(anisotropy, 0.0))), method=method, image_size=size,
-        line_families=line_families)
+        line_families=line_families, lens_prior=bool(under_prior))
 
 
