@@ -121,10 +121,11 @@ def _frontal_under_prior(cost: LineCost, total, lens: tuple[float, float], free:
     ``_ORTHOGONAL_Z`` sigmas over the fit of their parallelism alone (``free``, w free down to
     0: orthographic). The lines then fix v = p_max w_least / side, with covariance C; over the
     prior the plane is p = (f / f_max) p_max, f log-uniform in [r f_max, f_max] (r = lens[0] /
-    lens[1]), so with b = E[f / f_max] = (1 - r) / ln(1 / r) and a = E[(f / f_max)^2] =
-    (1 - r^2) / (2 ln(1 / r)) the estimate is its mean b p_max and its RMS error
-    sqrt((a - b^2) |p_max|^2 + a tr C) (near p = 0 the normal's error is |dp| in radians,
-    whatever its direction); the tilt is not claimed."""
+    lens[1]). The estimate is its mean b p_max, b = E[f / f_max] = (1 - r) / ln(1 / r); its
+    uncertainty the bound at the longest lens, sqrt(|p_max|^2 + tr C) (near p = 0 the normal's
+    error is |dp| in radians, whatever its direction), not the RMS over the prior: a photo
+    from beyond the prior (an orthographic render) must not be read frontal more confidently
+    than the longest lens allows. The tilt is not claimed."""
     cost.orthogonal = True
     w_least, w_most = lens
 
@@ -138,9 +139,8 @@ def _frontal_under_prior(cost: LineCost, total, lens: tuple[float, float], free:
     cov_p = _inverse(hessian(held, fit.x, np.full(2, 1e-3)))
     p_max = np.asarray(fit.x, dtype=np.float64)
     r = w_least / w_most
-    b, a = (1.0 - r) / math.log(1.0 / r), (1.0 - r * r) / (2.0 * math.log(1.0 / r))
-    s_slant = math.degrees(math.sqrt((a - b * b) * float(p_max @ p_max)
-                                     + a * float(np.trace(cov_p))))
+    b = (1.0 - r) / math.log(1.0 / r)
+    s_slant = math.degrees(math.sqrt(float(p_max @ p_max) + float(np.trace(cov_p))))
     cov = np.diag([s_slant ** 2, 180.0 ** 2])
     return Combined(b * p_max, None, cov, None, True, True, True)
 

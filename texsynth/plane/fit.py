@@ -401,11 +401,15 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     if found and spaced is None:  # the texture fit with the floors _result would state
         prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
                                    floor ** 2])
+        # The lens prior only where the texture could refute a frontal reading: a directional
+        # one (tiles, weaves) seen orthographically along its axes shows parallel orthogonal
+        # families as a frontal view does, and its own grain hides the slant.
         lens = tuple(max(small.shape) / (mm / _DIAGONAL_35MM * math.hypot(*small.shape))
                      for mm in _LENS_MM[::-1])  # w = side / f, the longest lens first
         both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
-                       None if focal_px is None else focal_px / k, lens)
+                       None if focal_px is None else focal_px / k,
+                       lens if anisotropy <= _ANISOTROPY_OK else None)
         if both is None or (anisotropy <= _ANISOTROPY_OK
                             and _distance(both, fit, prior if fit.spread is None else
                                           prior - fit.cov + fit.spread) > _CONFLICT):
