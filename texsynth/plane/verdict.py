@@ -85,6 +85,9 @@ def verdict(estimate) -> Verdict:
         if not measured:
             reasons.append(f"no measurable slant ({estimate.slant:.0f}° ± {sd_slant:.0f}°: "
                            "a frontal view fits as well)")
+        if getattr(estimate, "lens_prior", False):
+            reasons.append(f"lines parallel: frontal within ± {sd_slant:.0f}° for any 13-200 mm "
+                           "lens (35 mm eq.)")
         if estimate.line_families == 0:
             reasons.append("no straight lines")
         if estimate.anisotropy > _DIRECTIONAL and estimate.line_families < 2:
