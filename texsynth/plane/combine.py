@@ -24,10 +24,12 @@ slanted telephoto one (v = p w / side is 0 either way), but photos come from len
 orthogonal families stay parallel with w held at the prior's longest lens (the weakest bound on
 p = v side / w; any shorter lens bounds p more), and holding it costs the fit of the lines and
 the texture no more than ``_ORTHOGONAL_Z`` sigmas, the lines have measured v near 0 and the
-plane is p = f v for a focal length f drawn from the prior (:func:`_frontal_under_prior`). An
+plane is p = f v for a focal length f drawn from the prior: the estimate is its mean, its
+uncertainty the slant the longest lens would still hide (:func:`_frontal_under_prior`). An
 orthographic render lies outside the prior: the orthogonal families of a slanted one are not
-orthogonal in the image, and imposing the prior costs their fit.
-Deviation: a rhombic pattern seen frontally fails the same test and stays a guess.
+orthogonal in the image, and imposing the prior costs their fit, unless it is tilted along a
+family (then only the texture can tell: the caller offers the prior on near-isotropic textures
+only). Deviation: a rhombic pattern seen frontally fails the same test and stays a guess.
 """
 
 from __future__ import annotations
