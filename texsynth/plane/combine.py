@@ -221,8 +221,17 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     if not settled and not ambiguous_t and float(best.x[:2] @ p_t) < 0:
         chosen = other  # the lines cannot tell; the texture fit did
     theta = chosen.x
+
+    def under_prior():  # the lines show no perspective: frontal under the lens prior?
+        if lens is None or len(cost.families) != 2:
+            return None
+        cost.orthogonal = False
+        free = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x, theta], step)
+        return _frontal_under_prior(cost, total, lens, free.fun, [theta[:2], p_t])
+
     if math.hypot(theta[0], theta[1]) > 0.98 * _MAX_P or (not known and theta[2] > 0.98 * _W_LIMIT):
-        return None  # the lines ask for an impossible view: they are not the plane's
+        # An impossible view, or (w near 0, p unbounded) parallel lines a frontal view explains.
+        return None if known else under_prior()
     hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
     cov = _inverse(hess)
     p = np.asarray(theta[:2], dtype=np.float64)
@@ -233,11 +242,5 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
         return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
     w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))
     if w <= 2.0 * s_w:  # no significant perspective: frontal under the lens prior, or orthographic
-        if lens is not None and len(cost.families) == 2:
-            cost.orthogonal = False
-            free = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x, theta], step)
-            frontal = _frontal_under_prior(cost, total, lens, free.fun, [theta[:2], p_t])
-            if frontal is not None:
-                return frontal
-        return Combined(p, None, cov_st, None, True, False)
+        return under_prior() or Combined(p, None, cov_st, None, True, False)
     return Combined(p, side / w, cov_st, s_w / w, ambiguous_t and not settled, determined)
