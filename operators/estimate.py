@@ -99,7 +99,7 @@ def stored_estimate(settings, frontal: bool = False) -> estimate.PlaneEstimate:
         normal_uncertainty=math.degrees(settings.uncertainty), focal_uncertainty=None,
         anisotropy=settings.anisotropy, method="stored",
         image_size=(settings.image_width, settings.image_height),
-        line_families=settings.line_families)
+        line_families=settings.line_families, lens_prior=settings.lens_prior and not frontal)
 
 
 def judged(settings) -> estimate.Verdict:
@@ -209,6 +209,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         settings.tilt_uncertainty = math.radians(min(result.tilt_uncertainty, 180.0))
         settings.anisotropy = result.anisotropy
         settings.line_families = result.line_families
+        settings.lens_prior = result.lens_prior
         where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
         lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \
             if result.focal_px else ", orthographic"
@@ -217,7 +218,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         self.report({"WARNING"} if verdict.guess else {"INFO"},
                     f"'{image.name}': slant {result.slant:.1f}°, tilt {result.tilt:.1f}°{either}"
                     f"{lens}, confidence {result.confidence:.2f}"
-                    + (f". {verdict.summary}" if verdict.guess else ""))
+                    + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else ""))
         return {"FINISHED"}
 
 

@@ -233,6 +233,8 @@ class PlanePanel:
             column.label(text="A guess, not a measurement:", icon="ERROR")
             for reason in verdict.reasons:
                 column.label(text=reason)
+        elif verdict.lens_prior:  # focal length unknown: frontal for any 13-200 mm lens
+            box.label(text="Frontal under a lens prior (13-200 mm eq.)", icon="CHECKMARK")
         elif not verdict.slant_measured:
             box.label(text="No measurable slant: a frontal photo", icon="CHECKMARK")
         layout.prop(settings, "add_background")

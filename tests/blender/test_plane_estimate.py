@@ -232,6 +232,20 @@ def test_the_panel_says_when_the_estimate_is_a_guess_and_why():
     assert "No measurable slant: a frontal photo" in _panel_labels(settings).labels
 
 
+def test_the_panel_says_when_frontal_rests_on_the_lens_prior():
+    """Focal length unknown, lines parallel under every 13-200 mm lens: frontal, and the panel
+    says under which assumption."""
+    settings = _guess(bpy.context.scene)
+    settings.slant, settings.confidence, settings.line_families = math.radians(1.0), 0.8, 2
+    settings.slant_uncertainty = settings.uncertainty = math.radians(5.0)
+    settings.lens_prior = True
+    labels = _panel_labels(settings).labels
+    assert "Frontal under a lens prior (13-200 mm eq.)" in labels
+    assert "A guess, not a measurement:" not in labels
+    settings.lens_prior = False
+    assert "Frontal under a lens prior (13-200 mm eq.)" not in _panel_labels(settings).labels
+
+
 def test_estimating_white_noise_stores_a_guess():
     """No plane cue at all: the estimate is stored, and what is stored says it is a guess."""
     generated_image(np.random.default_rng(1).random((128, 128, 3)).astype(np.float32),

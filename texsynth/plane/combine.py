@@ -17,6 +17,19 @@ orthogonality, so a non-orthogonal pair whose texture fit is loose is still take
 
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
+
+A lens prior, with the focal length unknown: parallel lines cannot tell a frontal photo from a
+slanted telephoto one (v = p w / side is 0 either way), but photos come from lenses of about
+13-200 mm (35 mm equivalent; w = side / f in ``lens``), taken as log-uniform. When two
+orthogonal families stay parallel with w held at the prior's longest lens (the weakest bound on
+p = v side / w; any shorter lens bounds p more), and holding it costs the fit of the lines and
+the texture no more than ``_ORTHOGONAL_Z`` sigmas, the lines have measured v near 0 and the
+plane is p = f v for a focal length f drawn from the prior: the estimate is its mean, its
+uncertainty the slant the longest lens would still hide (:func:`_frontal_under_prior`). An
+orthographic render lies outside the prior: the orthogonal families of a slanted one are not
+orthogonal in the image, and imposing the prior costs their fit, unless it is tilted along a
+family (then only the texture can tell: the caller offers the prior on near-isotropic textures
+only). Deviation: a rhombic pattern seen frontally fails the same test and stays a guess.
 """
 
 from __future__ import annotations
@@ -50,6 +63,7 @@ class Combined:
     focal_sd: float | None  # relative
     ambiguous: bool
     determined: bool      # the lines alone fix p (the texture's assumptions are not needed)
+    under_prior: bool = False  # frontal, measured under the lens prior (``lens``)
 
 
 def _p_covariance(p: np.ndarray, cov_st: np.ndarray) -> np.ndarray:
@@ -102,6 +116,37 @@ def orthogonality_chi2(free: float, orthogonal: float) -> float:
     return 2.0 * max(orthogonal - free, 0.0)
 
 
+def _frontal_under_prior(cost: LineCost, total, lens: tuple[float, float], free: float,
+                         starts: list[np.ndarray]) -> Combined | None:
+    """Frontal under the lens prior, or None: p_max, the plane with w held at the longest lens
+    ``lens[0]`` and the two families orthogonal, must cost ``total`` (half chi-square) at most
+    ``_ORTHOGONAL_Z`` sigmas over the fit of their parallelism alone (``free``, w free down to
+    0: orthographic). The lines then fix v = p_max w_least / side, with covariance C; over the
+    prior the plane is p = (f / f_max) p_max, f log-uniform in [r f_max, f_max] (r = lens[0] /
+    lens[1]). The estimate is its mean b p_max, b = E[f / f_max] = (1 - r) / ln(1 / r); its
+    uncertainty the bound at the longest lens, sqrt(|p_max|^2 + tr C) (near p = 0 the normal's
+    error is |dp| in radians, whatever its direction), not the RMS over the prior: a photo
+    from beyond the prior (an orthographic render) must not be read frontal more confidently
+    than the longest lens allows. The tilt is not claimed."""
+    cost.orthogonal = True
+    w_least, w_most = lens
+
+    def held(q):
+        return total(np.array([q[0], q[1], w_least]))
+
+    fit = minimize(held, [np.zeros(2), *starts], np.array([0.02, 0.02]))
+    if orthogonality_chi2(free, fit.fun) > _ORTHOGONAL_Z ** 2:
+        cost.orthogonal = False
+        return None
+    cov_p = _inverse(hessian(held, fit.x, np.full(2, 1e-3)))
+    p_max = np.asarray(fit.x, dtype=np.float64)
+    r = w_least / w_most
+    b = (1.0 - r) / math.log(1.0 / r)
+    s_slant = math.degrees(math.sqrt(float(p_max @ p_max) + float(np.trace(cov_p))))
+    cov = np.diag([s_slant ** 2, 180.0 ** 2])
+    return Combined(b * p_max, None, cov, None, True, True, True)
+
+
 def _inverse(hess: np.ndarray) -> np.ndarray:
     """Covariance from a finite-difference Hessian: curvature taken by its size (the robust
     losses and the differences can make a small one negative), none means unbounded."""
@@ -111,11 +156,14 @@ def _inverse(hess: np.ndarray) -> np.ndarray:
 
 def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
             focal_t: float | None, focal_sd_t: float | None, ambiguous_t: bool,
-            focal_given: float | None) -> Combined | None:
+            focal_given: float | None,
+            lens: tuple[float, float] | None = None) -> Combined | None:
     """The plane that best explains the texture fit (p_t, cov_t, focal_t, focal_sd_t,
     ambiguous_t) and the line families in ``cost``; ``focal_given``: the known focal length
-    (analysis pixels), else it is estimated with the rest. None when the best fit lies on the
-    search's bounds (a field of view over 127 degrees or a slant of 85)."""
+    (analysis pixels), else it is estimated with the rest, and ``lens`` (w = side / f at the
+    longest and the shortest lens photos come from) allows a frontal reading under that prior
+    when the lines show no perspective. None when the best fit lies on the search's bounds (a
+    field of view over 127 degrees or a slant of 85)."""
     known = focal_given is not None
     cov_prior = _p_covariance(p_t, cov_t)
     theta_t = np.asarray(p_t, dtype=np.float64)
@@ -173,8 +221,17 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     if not settled and not ambiguous_t and float(best.x[:2] @ p_t) < 0:
         chosen = other  # the lines cannot tell; the texture fit did
     theta = chosen.x
+
+    def under_prior():  # the lines show no perspective: frontal under the lens prior?
+        if lens is None or len(cost.families) != 2:
+            return None
+        cost.orthogonal = False
+        free = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x, theta], step)
+        return _frontal_under_prior(cost, total, lens, free.fun, [theta[:2], p_t])
+
     if math.hypot(theta[0], theta[1]) > 0.98 * _MAX_P or (not known and theta[2] > 0.98 * _W_LIMIT):
-        return None  # the lines ask for an impossible view: they are not the plane's
+        # An impossible view, or (w near 0, p unbounded) parallel lines a frontal view explains.
+        return None if known else under_prior()
     hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))
     cov = _inverse(hess)
     p = np.asarray(theta[:2], dtype=np.float64)
@@ -184,6 +241,6 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     if known:
         return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
     w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))
-    if w <= 2.0 * s_w:  # no significant perspective: an orthographic view
-        return Combined(p, None, cov_st, None, True, False)
+    if w <= 2.0 * s_w:  # no significant perspective: frontal under the lens prior, or orthographic
+        return under_prior() or Combined(p, None, cov_st, None, True, False)
     return Combined(p, side / w, cov_st, s_w / w, ambiguous_t and not settled, determined)

@@ -21,11 +21,14 @@ _DIRECTIONAL = 1.0  # RMS log-energy spread beyond which the texture's own grain
 class Verdict:
     """``guess``: the estimate should not be applied as it is; ``slant_measured``: a slant was
     told from 0 (else the photo may as well be frontal); ``reasons``: why it is a guess, in a
-    user's words, the most telling first (empty for a measurement)."""
+    user's words, the most telling first (empty for a measurement); ``lens_prior``: measured
+    under the prior that the photo comes from a 13-200 mm lens (35 mm equivalent), the focal
+    length being unknown."""
 
     guess: bool
     slant_measured: bool
     reasons: tuple[str, ...]
+    lens_prior: bool = False
 
     @property
     def summary(self) -> str:
@@ -33,6 +36,8 @@ class Verdict:
         "Guess: " and the reasons."""
         if self.guess:
             return "Guess: " + "; ".join(self.reasons)
+        if self.lens_prior:
+            return "Measured under a lens prior (13-200 mm equivalent): frontal"
         return "Measured" if self.slant_measured else "Measured: frontal (no measurable slant)"
 
 
@@ -44,7 +49,8 @@ def verdict(estimate) -> Verdict:
     estimate : PlaneEstimate
         What :func:`~texsynth.plane.estimate_plane` returned (or a record with its
         ``confidence``, ``slant``, ``slant_uncertainty``, ``tilt_uncertainty``,
-        ``tilt_ambiguous_180``, ``line_families`` and ``anisotropy``).
+        ``tilt_ambiguous_180``, ``line_families``, ``anisotropy`` and, optionally,
+        ``lens_prior``).
 
     Returns
     -------
@@ -54,6 +60,8 @@ def verdict(estimate) -> Verdict:
         sigma as wide: that is no measurement of any slant); ``reasons``: no straight lines,
         a directional texture (its own grain reads as slant under the isotropy assumption of
         Forsyth & Ponce, sec. 11.4.1), no measurable slant, an uncertain receding direction.
+        ``lens_prior``: with the focal length unknown, the lines stayed parallel under every
+        lens of 13-200 mm (35 mm equivalent): a frontal view, measured under that prior.
 
     References
     ----------
@@ -77,6 +85,9 @@ def verdict(estimate) -> Verdict:
         if not measured:
             reasons.append(f"no measurable slant ({estimate.slant:.0f}° ± {sd_slant:.0f}°: "
                            "a frontal view fits as well)")
+        if getattr(estimate, "lens_prior", False):
+            reasons.append(f"lines parallel: frontal within ± {sd_slant:.0f}° for any 13-200 mm "
+                           "lens (35 mm eq.)")
         if estimate.line_families == 0:
             reasons.append("no straight lines")
         if estimate.anisotropy > _DIRECTIONAL and estimate.line_families < 2:
@@ -85,4 +96,5 @@ def verdict(estimate) -> Verdict:
             reasons.append(f"receding direction uncertain (± {estimate.tilt_uncertainty:.0f}°)")
         if not reasons:
             reasons.append(f"normal uncertain (± {estimate.normal_uncertainty:.0f}°)")
-    return Verdict(guess, measured, tuple(reasons))
+    under_prior = bool(getattr(estimate, "lens_prior", False)) and not measured
+    return Verdict(guess, measured, tuple(reasons), under_prior)
