@@ -158,8 +158,9 @@ def run(ctx) -> str:
         "",
         f"![renders]({picture})",
         "",
-        "Each row: plain, Tiling and Blending and Tile Set from above (a quarter of the frame, "
-        "4 x 4 tiles), then the same three at a grazing angle (75 degrees from the normal, "
+        f"Each row: plain, {', '.join(label for _, label in MODES)} from above (a quarter of "
+        f"the frame, 4 x 4 tiles), then the same {len(MODES) + 1} at a grazing angle (75 degrees "
+        "from the normal, "
         f"{GRAZING_TILES} x {GRAZING_TILES} tiles on the plane, 50 mm, the frame's middle).",
         "",
         "The precomputations at the photos' full size (`texsynth.norepeat.gaussianize`: RGB "
