@@ -159,7 +159,9 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
                                    f"level {lv}, patch {p}")
         if lv >= 1:  # the copies slide into phase while their layout is still coarse
-            positions = align_regions(z, positions, SHIFT)
+            done, label = (i + 1) / len(steps), f"level {lv}: aligning copies"
+            positions = align_regions(z, positions, SHIFT,
+                                      tick=lambda d=done, m=label: progress(d, m))
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 

@@ -57,9 +57,10 @@ def regions(positions: np.ndarray) -> tuple[int, np.ndarray]:
     return n, label.reshape(h, w).astype(np.int32)
 
 
-def _seam_costs(z, positions, label, n, deltas):
+def _seam_costs(z, positions, label, n, deltas, tick):
     """(len(deltas), n): each region's seam cost along its border with its shift moved by each
-    delta (the rest fixed); infinite where a moved pixel leaves the exemplar."""
+    delta (the rest fixed); infinite where a moved pixel leaves the exemplar; ``tick()`` after
+    each delta."""
     zh, zw = z.shape[:2]
     cost = np.zeros((len(deltas), n))
     outside = np.zeros((len(deltas), n), bool)
@@ -77,6 +78,7 @@ def _seam_costs(z, positions, label, n, deltas):
             e = ((a_s - b_s) ** 2).sum(axis=1) + ((a_t - b_t) ** 2).sum(axis=1)
             cost[k] += np.bincount(owner, e, n)
             outside[k] |= np.bincount(owner, out, n) > 0
+            tick()
     cost[outside] = np.inf
     return cost
 
@@ -96,7 +98,7 @@ def _independent(label, gain):
 
 
 def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
-                  sweeps: int = 3) -> np.ndarray:
+                  sweeps: int = 3, tick=lambda: None) -> np.ndarray:
     """Slide the verbatim copies of a position map by up to ``radius`` pixels each way so their
     seams join; returns new positions (H, W, 2) into ``z`` (h, w, C).
 
@@ -106,6 +108,7 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
     positions : (H, W, 2) int exemplar row and column of each output pixel (the output wraps).
     radius : the largest move of a region, per axis, in pixels.
     sweeps : rounds of moves (fewer when no region gains).
+    tick : called between steps (so Esc is heard).
 
     References
     ----------
@@ -128,9 +131,10 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
     positions = positions.copy()
     for _ in range(sweeps):
         n, label = regions(positions)
+        tick()
         if n < 2:
             break
-        cost = _seam_costs(z, positions, label, n, deltas)
+        cost = _seam_costs(z, positions, label, n, deltas, tick)
         best = cost.argmin(axis=0)
         gain = cost[still] - cost[best, np.arange(n)]
         move = _independent(label, np.where(best != still, gain, 0.0))
