@@ -2,10 +2,9 @@
 a row off their neighbours line up, every region stays a verbatim copy inside the exemplar."""
 
 import numpy as np
+from test_texture_optimization import bricks
 
 from texsynth.blocks.region_shift import align_regions, regions
-
-from test_texture_optimization import bricks
 
 
 def _rows_carry_on(image, col):
