@@ -62,9 +62,9 @@ def test_same_seed_same_output_other_seed_other_output():
 def test_uniform_usage_term_spreads_the_copies_over_the_exemplar():
     ex = smooth_noise((48, 48), seed=1, sigma=1.5)
 
-    def used(uniformity):
+    def used(uniformity):  # one level: the usage term alone, without the copies' moves
         _, pos = texsynth.synthesize_positions(ex, 96, 96, method="texture_optimization",
-                                               seed=2, uniformity=uniformity)
+                                               seed=2, uniformity=uniformity, levels=1)
         counts = np.bincount((pos[:, :, 0] * 48 + pos[:, :, 1]).ravel(), minlength=48 * 48)
         return (counts > 0).mean()
 

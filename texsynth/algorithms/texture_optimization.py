@@ -29,6 +29,13 @@ its best patch) leaves the random start a fixed point (the output stayed its 16 
 the averaging stays for the iterations and only the last pass of each level and size is the
 mode; and the levels reach the exemplar's texel, as Kaspar et al. 2015, 4 choose patch sizes.
 
+Why rows still broke (1024 -> 2048 on the brick wall, and a 512 crop -> 512): the output is a
+few large verbatim copies, placed at the coarsest levels where a brick row is under a pixel, so
+neighbouring copies met half a row apart along straight cuts, and no later patch move shifts a
+whole copy (fewer levels gave more and shorter breaks: 3 or 4 levels against the texel's 6).
+So after each coarse level and patch size the copies slide into phase
+(``texsynth.blocks.region_shift``: shift-map labels, graph-cut seam costs, whole regions moved).
+
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
@@ -42,7 +49,9 @@ Deviations, one line each:
 - on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
   lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
   stays on it; every exemplar pixel still lies in a lattice patch);
-- output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it.
+- output neighbourhoods wrap around the output (it tiles); exemplar patches lie inside it;
+- after each level but the finest, each verbatim copy may move by up to ``SHIFT`` pixels each
+  way where that joins its seams (``align_regions``), ours, after Pritch et al. 2009's shift-map.
 """
 
 from __future__ import annotations
@@ -60,6 +69,7 @@ from ..blocks.patchmatch import (
     patchmatch,
 )
 from ..blocks.period import texel_size
+from ..blocks.region_shift import align_regions
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
@@ -81,6 +91,8 @@ COARSE = 2
 PROBE = 1 << 20
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 3
+#: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
+SHIFT = 3
 
 
 def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
@@ -146,6 +158,10 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
                                    f"level {lv}, patch {p}")
+        if lv >= 1:  # the copies slide into phase while their layout is still coarse
+            done, label = (i + 1) / len(steps), f"level {lv}: aligning copies"
+            positions = align_regions(z, positions, SHIFT,
+                                      tick=lambda d=done, m=label: progress(d, m))
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
