@@ -15,7 +15,7 @@ import texsynth
 from texsynth.algorithms import de_bonet as db
 from texsynth.blocks.color import ColorPCA
 from texsynth.blocks.periodic import periodic_component
-from texsynth.blocks.pyramid import LaplacianPyramid, SteerablePyramid
+from texsynth.blocks.pyramid import LaplacianPyramid
 from texsynth.progress import Progress
 
 ORDER = 45
@@ -78,13 +78,12 @@ def _per_channel(ex, side, threshold):
     pca = ColorPCA.fit(ex)
     comp = pca.forward(ex)
     levels = db.pyramid_depth(ex.shape, side, side, DEFAULTS["scales"])
-    steerable = SteerablePyramid(ex.shape[:2], levels)
     laplacian = LaplacianPyramid(ex.shape[:2], levels)
     po = LaplacianPyramid((side, side), levels)
     out = np.empty((side, side, 3), np.float32)
     rng = np.random.default_rng(SEED)
     for c in range(3):
-        f = db.pyramid_features(periodic_component(comp[:, :, c:c + 1]), steerable, laplacian)
+        f = db.pyramid_features(periodic_component(comp[:, :, c:c + 1]), laplacian, 4)
         src = db.sample_pyramid(f, po.level_shapes, threshold, 3, rng, Progress())
         out[:, :, c] = po.synthesize(db.channel_levels(f, src, 0, 4))
     return np.clip(pca.inverse(out), ex.min(axis=(0, 1)), ex.max(axis=(0, 1)))
