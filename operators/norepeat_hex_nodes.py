@@ -26,7 +26,7 @@ import bpy
 
 from ..texsynth.norepeat import GRID_SCALE
 from ..texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
-from .norepeat_nodes import TAG, VERSION, _finish, _new_group
+from .norepeat_nodes import TAG, VERSION, _finish, _new_group, triangle_grid
 
 GRID = "TexSynth Hex Grid"
 WEIGHTS = "TexSynth Hex Weights"
@@ -39,20 +39,8 @@ def _build_grid():
                                     ("Texels", "Vector")],
                              [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
                               ("Angles", "Vector"), ("Weights", "Vector")])
-    uv, s, seed = i["Vector"], i["Scale"], i["Seed"]
-    # the triangle grid (texsynth.norepeat.blend.triangle_grid), as in norepeat_nodes
-    along = b.combine(s, b.math("MULTIPLY", s, 2 / 3 ** 0.5), 0.0)
-    across = b.combine(0.0, b.math("MULTIPLY", s, -1 / 3 ** 0.5), 0.0)
-    skewed = b.vector("MULTIPLY_ADD", uv, along, b.scale(across, b.separate(uv)[0]))
-    base, f = b.vector("FLOOR", skewed), b.vector("FRACTION", skewed)
-    z = b.math("SUBTRACT", 1.0, b.vector("DOT_PRODUCT", f, (1.0, 1.0, 0.0)))
-    near = b.math("MINIMUM", z, 0.0)
-    weights = b.vector("ADD", f, b.combine(near, near, b.math("ABSOLUTE", z)))
-    above = b.math("LESS_THAN", z, 0.0)
-    vertices = (b.vector("ADD", base, b.combine(1.0, 0.0, seed)),
-                b.vector("ADD", base, b.combine(0.0, 1.0, seed)),
-                b.vector("MULTIPLY_ADD", above, (1.0, 1.0, 0.0),
-                         b.vector("ADD", base, b.combine(0.0, 0.0, seed))))
+    uv = i["Vector"]
+    vertices, weights = triangle_grid(b, uv, i["Scale"], i["Seed"])
     texel = b.vector("DIVIDE", (1.0, 1.0, 1.0), i["Texels"])
     spread = b.math("MULTIPLY", i["Rotation"], 2 * PI)
     start = b.math("MULTIPLY", i["Rotation"], -PI)

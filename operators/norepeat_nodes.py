@@ -99,12 +99,10 @@ def _finish(b, values):
         b.tree.links.new(value, socket)
 
 
-def _build_grid():
-    group, b, i = _new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
-                                    ("Seed", "Float", 0.0), ("Texels", "Vector")],
-                             [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
-                              ("Weights", "Vector")])
-    uv, s, seed = i["Vector"], i["Scale"], i["Seed"]
+def triangle_grid(b, uv, s, seed):
+    """The triangle grid of ``texsynth.norepeat.blend.triangle_grid`` in nodes: the point's
+    three vertices (skewed-grid integers, the seed as their third coordinate) and its
+    barycentric weights."""
     # skewed = SKEW @ uv * s (texsynth.norepeat.blend.SKEW) = uv * (s, 2s/sqrt3, 0) + u *
     # (0, -s/sqrt3, 0): the constant vectors fold away when Scale is a Value node
     along = b.combine(s, b.math("MULTIPLY", s, 2 / 3 ** 0.5), 0.0)
@@ -122,6 +120,16 @@ def _build_grid():
                 b.vector("ADD", base, b.combine(0.0, 1.0, seed)),
                 b.vector("MULTIPLY_ADD", above, (1.0, 1.0, 0.0),
                          b.vector("ADD", base, b.combine(0.0, 0.0, seed))))
+    return vertices, weights
+
+
+def _build_grid():
+    group, b, i = _new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
+                                    ("Seed", "Float", 0.0), ("Texels", "Vector")],
+                             [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
+                              ("Weights", "Vector")])
+    uv = i["Vector"]
+    vertices, weights = triangle_grid(b, uv, i["Scale"], i["Seed"])
     texel = b.vector("DIVIDE", (1.0, 1.0, 1.0), i["Texels"])
     uvs = []
     for vertex in vertices:

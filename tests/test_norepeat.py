@@ -21,15 +21,9 @@ from texsynth.norepeat import (
 )
 from texsynth.norepeat.blend import SKEW
 
-from _images import smooth_noise
+from _images import smooth_noise, wasserstein
 
 SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
-
-
-def _wasserstein(a, b):
-    p = (np.arange(256) + 0.5) / 256
-    return max(float(np.abs(np.quantile(a[..., k], p) - np.quantile(b[..., k], p)).mean())
-               for k in range(a.shape[2]))
 
 
 @pytest.fixture(scope="module")
@@ -139,7 +133,7 @@ def test_tiling_and_blending_stops_the_repeat_and_keeps_the_look(photo):
     assert out.shape == (4 * h, 4 * w, 3) and out.dtype == np.float32
     assert period_correlation(np.tile(photo, (4, 4, 1)), w) > 0.99
     assert abs(period_correlation(out, w)) < 0.3
-    assert _wasserstein(photo, out) < 0.03
+    assert wasserstein(photo, out) < 0.03
     assert 0.85 < gradient_ratio(photo, out) < 1.15
 
 

@@ -13,13 +13,9 @@ from texsynth.io import read_image
 from texsynth.metrics import gradient_ratio
 from texsynth.norepeat import hex_tile, hex_weights, period_correlation, predict_hex_memory
 
+from _images import wasserstein
+
 SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
-
-
-def _wasserstein(a, b):
-    p = (np.arange(256) + 0.5) / 256
-    return max(float(np.abs(np.quantile(a[..., k], p) - np.quantile(b[..., k], p)).mean())
-               for k in range(a.shape[2]))
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +31,7 @@ def test_hex_tiling_stops_the_repeat_and_keeps_the_look(photo):
     assert out.shape == (4 * h, 4 * w, 3) and out.dtype == np.float32
     assert period_correlation(np.tile(photo, (4, 4, 1)), w) > 0.99
     assert abs(period_correlation(out, w)) < 0.3
-    assert _wasserstein(photo, out) < 0.03
+    assert wasserstein(photo, out) < 0.03
     assert 0.85 < gradient_ratio(photo, out) < 1.15
 
 
