@@ -42,7 +42,7 @@ LUMA = np.array([0.2126, 0.7152, 0.0722], np.float32)
 ANGLE_SALT = 0x5F3759DF
 
 
-def cell_frames(vertices: np.ndarray, seed: int, rotation: float, texels):
+def _cell_frames(vertices: np.ndarray, seed: int, rotation: float, texels):
     """Per grid vertex (..., 2): its cell's angle (radians) and offset (..., 2) snapped to the
     ``texels`` (w, h) grid."""
     texels = np.asarray(texels, np.float64)
@@ -90,7 +90,13 @@ def hex_weights(barycentric: np.ndarray, luminance: np.ndarray, contrast: float 
 def predict_hex_memory(width: int, height: int, channels: int) -> float:
     """Peak bytes of :func:`hex_tile` for a ``width`` x ``height`` output of ``channels``: the
     float64 coordinates, weights, vertices and cell frames of every pixel and the three reads
-    (tracemalloc: 265 and 302 bytes a pixel for 1 and 3 channels)."""
+    (tracemalloc: 265 and 302 bytes a pixel for 1 and 3 channels).
+
+    Examples
+    --------
+    >>> predict_hex_memory(1024, 1024, 3) / 2**20
+    320.0
+    """
     return float(width) * height * (260 + 20 * channels)
 
 
@@ -160,7 +166,7 @@ def hex_tile(texture, width: int, height: int, *, scale: float = GRID_SCALE, see
     barycentric, vertices = triangle_grid(uv, scale)
     copies, luminance = [], []
     for i in range(3):
-        angle, offset = cell_frames(vertices[..., i, :], seed, rotation, (w, h))
+        angle, offset = _cell_frames(vertices[..., i, :], seed, rotation, (w, h))
         st = _rotate(uv, angle) + offset
         copy = _read(a, st)
         if normal:  # the texture turned by -angle on the surface: so are its normals

@@ -148,7 +148,13 @@ class WangTiles:
 def default_tile(shape, colours: int = 2, gutter: int = 8) -> int:
     """The tile side used when none is given, before the fit to the photo's period: half the
     photo's shorter side (even), at most what keeps the atlas within :data:`MAX_ATLAS` and
-    the diamonds and gutters inside the photo."""
+    the diamonds and gutters inside the photo.
+
+    Examples
+    --------
+    >>> default_tile((1024, 768, 3))
+    384
+    """
     side = min(shape[:2])
     t = min(side // 2, MAX_ATLAS // colours ** 2 - 2 * gutter, side - 2 * gutter - 1)
     return max(0, t - t % 2)

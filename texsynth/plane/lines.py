@@ -266,7 +266,7 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
                   image=None, ridges: bool = False) -> Segments:
     """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
     on its longer side (with ``ridges``: the lines' centres in it and in the chroma of its
-    colour ``image``, :func:`opponent`, at up to ``_RIDGE_SIDE``), in the pixels of its analysis
+    colour ``image``, :func:`_opponent`, at up to ``_RIDGE_SIDE``), in the pixels of its analysis
     image ``small`` (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from
     Burns et al.: the regions are found at the finer size because a real joint (mortar, the
     gap between setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the
@@ -283,7 +283,7 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
         rows, cols = (np.clip(np.round(x), 0, m - 1).astype(np.intp)
                       for x, m in ((rows, mask.shape[0]), (cols, mask.shape[1])))
         fine_mask = mask[np.ix_(rows, cols)]
-    chroma = opponent(image, k_f) if ridges else None
+    chroma = _opponent(image, k_f) if ridges else None
     found = segments(fine, fine_mask, chroma)
     ratio = k_f / k
     return Segments(found.m * ratio, found.d, found.length * ratio, found.dense,
@@ -299,7 +299,7 @@ def _reduce(a: np.ndarray, k: int) -> np.ndarray:
                                                                       dtype=np.float32)
 
 
-def opponent(image, k: int = 1) -> list[np.ndarray]:
+def _opponent(image, k: int = 1) -> list[np.ndarray]:
     """The chroma of a colour ``image`` block-averaged by ``k`` (as :func:`_reduce`) as two
     opponent channels, red - green and yellow - blue (none for a grey one): joints that differ
     from the stones in colour more than in luminance."""
