@@ -67,7 +67,9 @@ def _build_weights():
     contrast = i["Contrast"]
     d = b.vector("MULTIPLY_ADD", i["Luminance"], contrast, b.math("SUBTRACT", 1.0, contrast))
     d = b.vector("MAXIMUM", d, (1e-4, 1e-4, 1e-4))
-    w = b.vector("MULTIPLY", d, b.vector("POWER", i["Weights"], i["Sharpness"]))
+    # w_i ** sharpness per component (Vector Math has no POWER before Blender 4.3)
+    sharp = b.combine(*(b.math("POWER", w, i["Sharpness"]) for w in b.separate(i["Weights"])))
+    w = b.vector("MULTIPLY", d, sharp)
     _finish(b, [b.vector("DIVIDE", w, b.vector("DOT_PRODUCT", w, (1.0, 1.0, 1.0)))])
     return group
 
