@@ -88,7 +88,10 @@ def test_a_cycles_render_no_longer_repeats_and_looks_like_the_reference():
     f = 8 * w // 128
     reference = linear_to_srgb(reference.reshape(128, f, 128, f, 3).mean(axis=(1, 3)))
     assert abs(period_correlation(reference, 16)) < 0.3
-    assert max(norepeat_renders.wasserstein(after, reference)) < 0.01
+    # Blender's hash is not the reference's: two realizations. Two seeds of the reference differ
+    # by W1 0.001-0.008 (8 seeds); the render adds Cycles' noise (0.009 in Blender 5.0, 0.010
+    # in 4.2).
+    assert max(norepeat_renders.wasserstein(after, reference)) < 0.015
 
 
 def test_a_normal_maps_normals_turn_with_the_cells_in_a_render():
