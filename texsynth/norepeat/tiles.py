@@ -138,8 +138,8 @@ class WangTiles:
         Examples
         --------
         >>> tiles = wang_tiles(np.zeros((64, 64)), tile=16, gutter=2)
-        >>> tiles.slot(1, 0, 1, 0), tiles.atlas.shape
-        ((62, 2), (80, 80, 1))
+        >>> [int(v) for v in tiles.slot(1, 0, 1, 0)], tiles.atlas.shape
+        ([62, 2], (80, 80, 1))
         """
         c, step, g = self.colours, self.step, self.gutter
         return (np.asarray(n) * c + s) * step + g, (np.asarray(w) * c + e) * step + g
