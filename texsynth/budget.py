@@ -7,9 +7,14 @@ patch searches' matrix products, the pyramids' FFTs, the relaxations' gathers) a
 to seconds with coefficients fitted to measured runs (``python -m benchmarks.cost_models``
 prints predictions against measurements); a prediction is good to about a factor of two.
 This machine's speed relative to the reference is measured once per process by a tiny
-calibration run (:func:`machine_factor`, about 0.1 s: the FFTs, gathers, counts and sorts the
+calibration run (:func:`speed`, about 0.1 s: the FFTs, gathers, counts and sorts the
 methods spend their time in, on one thread and without BLAS so that the reading does not depend
-on what ran before in the process), so a prediction is ``cost * machine_factor()``.
+on what ran before in the process). A prediction is for the machine as it is, so the speed is
+multiplied by the load other programs put on it (:func:`contention`: the tasks wanting a core
+per core, read from the kernel, at least 1): ``cost * machine_factor()``, ``machine_factor() =
+speed() * contention()``. Why not a slower calibration run instead: on 2 cores at load 7-9 the
+fastest of the runs still read the quiet machine's speed (0.33-0.41) while runs took 3-20x
+their quiet time, and the median of the runs read 0.39-2.1, neither close nor steady.
 
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
@@ -20,15 +25,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import scipy.fft as sfft
 
 from . import validation
+from .blocks.parallel import WORKERS
 from .registry import methods
 
-__all__ = ["time_budget", "machine_factor", "predict", "check_time", "check_method", "describe",
-           "DEFAULT_BUDGET"]
+__all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "check_time",
+           "check_method", "describe", "DEFAULT_BUDGET"]
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
@@ -38,8 +45,13 @@ DEFAULT_BUDGET = 3600.0
 REFERENCE_SECONDS = 0.0062
 #: Runs of the calibration workload (a few ms each) after the warm-up.
 RUNS = 15
+#: Seconds a reading of the load is kept (a Blender session lasts hours; the panel redraws often).
+REFRESH = 60.0
+#: Linux's load figures: the 1-minute average, then runnable/all tasks at this instant.
+LOADAVG = Path("/proc/loadavg")
 
-_factor: float | None = None
+_speed: float | None = None
+_load: tuple[float, float] | None = None  # (time.monotonic() of the reading, contention)
 
 
 def time_budget() -> float:
@@ -79,16 +91,67 @@ def _workload() -> Callable[[], float]:
     return run
 
 
-def machine_factor() -> float:
+def speed() -> float:
     """This machine's time for the calibration workload over the reference machine's: the
     fastest of :data:`RUNS` runs after a warm-up (the slower ones lost time slices to other
-    processes), measured once per process and clipped to 0.1 .. 100."""
-    global _factor
-    if _factor is None:
+    processes: the quiet machine's speed), measured once per process and clipped to 0.1 .. 100.
+
+    Examples
+    --------
+    >>> speed() == speed() and 0.1 <= speed() <= 100
+    True
+    """
+    global _speed
+    if _speed is None:
         run = _workload()
         run()
-        _factor = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
-    return _factor
+        _speed = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
+    return _speed
+
+
+def _runnable() -> float | None:
+    """Tasks that want a core, this one included: the smaller of the 1-minute load average and
+    the count runnable at this instant (the average alone still holds a run that has just
+    ended; the count alone flickers); None where the kernel does not say (not Linux)."""
+    try:
+        fields = LOADAVG.read_text().split()
+        return min(float(fields[0]), float(fields[3].split("/")[0]))
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def contention() -> float:
+    """How many times slower than on the idle machine a run goes now: the tasks that want a core
+    per core (:func:`_runnable` over the cores this process may use), at least 1, at most 100;
+    1 where the kernel does not say. Read again after :data:`REFRESH` seconds.
+
+    Ours, a deviation from fair sharing: a run of k threads among L others gets k / (L + k) of
+    the cores, (L + k) / cores times slower; k is taken as 1 (this task), so a method on every
+    core is predicted up to (cores - 1 + L) / (L + 1) too fast under load.
+
+    Examples
+    --------
+    >>> 1.0 <= contention() <= 100.0
+    True
+    """
+    global _load
+    now = time.monotonic()
+    if _load is None or now - _load[0] > REFRESH:
+        runnable = _runnable()
+        _load = (now, 1.0 if runnable is None else float(np.clip(runnable / WORKERS, 1.0, 100.0)))
+    return _load[1]
+
+
+def machine_factor() -> float:
+    """Seconds on this machine, as loaded now, of a reference second: :func:`speed` times
+    :func:`contention`.
+
+    Examples
+    --------
+    >>> machine_factor() == speed() * contention()
+    True
+    """
+    return speed() * contention()
 
 
 def predict(method, exemplar_shape, width: int, height: int, params: dict) -> float:

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..blocks import fft
 from ..blocks.histogram import TargetHistogram, match, sample_step
-from ..blocks.periodic import periodic_component
+from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..registry import Method, register
 
 __all__ = ["random_phase", "METHOD"]
@@ -80,24 +80,35 @@ def random_phase(exemplar, width, height, rng, progress):
     m_, n_ = min(h, height), min(w, width)             # the spot's size M x N
     y, x = (h - m_) // 2, (w - n_) // 2
     crop = exemplar[y:y + m_, x:x + n_]
+    whole = (m_, n_) == (height, width)                # the spot fills the output: s~ = p - m
     progress(0.0, "the exemplar's periodic component")
-    p = periodic_component(crop)
-    m = p.mean(axis=(0, 1), dtype=np.float64)
-    values = exemplar.reshape(-1, channels)[::sample_step(h * w, w, SAMPLES)]
-    gain = np.float32(np.sqrt(width * height / (m_ * n_)))
+    if not whole:
+        p = periodic_component(crop)
+        m = p.mean(axis=(0, 1), dtype=np.float64)
+        gain = np.float32(np.sqrt(width * height / (m_ * n_)))
+        spot = np.zeros((height, width), np.float32)
+    step = sample_step(h * w, w, SAMPLES)
+    values = exemplar.reshape(-1, channels)[::step]
+    if step > 1:  # a sample spread over a large photo: read from it once, not once a channel
+        values = np.ascontiguousarray(values)
     progress(0.1, "drawing the random phase")
     spectrum = fft.rfft2(rng.random((height, width), dtype=np.float32))
     spectrum[0, 0] = 1.0                               # theta(0) = 0: the mean is m
     np.divide(spectrum, np.abs(spectrum), out=spectrum, where=spectrum != 0)  # e^(i theta)
-    spot = np.zeros((height, width), np.float32)
     out = np.empty((height, width, channels), np.float32)
     for c in range(channels):
-        spot[:m_, :n_] = p[:, :, c] - np.float32(m[c])
-        spot[:m_, :n_] *= gain
-        modulated = fft.rfft2(spot)
+        if whole:  # F(p) from u's transform and the border's 1-D ones; frequency 0 is m M N
+            modulated = periodic_spectrum(crop[:, :, c])
+            mean = np.float32(modulated[0, 0].real / (m_ * n_))
+            modulated[0, 0] = 0.0
+        else:
+            mean = np.float32(m[c])
+            spot[:m_, :n_] = p[:, :, c] - mean
+            spot[:m_, :n_] *= gain
+            modulated = fft.rfft2(spot)
         modulated *= spectrum
         image = fft.irfft2(modulated, (height, width))
-        image += np.float32(m[c])
+        image += mean
         out[:, :, c] = match(image, TargetHistogram(values[:, c]))
         progress(0.1 + 0.9 * (c + 1) / channels, f"channel {c + 1}/{channels}")
     return out
