@@ -131,14 +131,15 @@ def _memory(shape, width, height, params):
 
 
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine: the periodic component of the crop (C channels), the
-    noise's transform, and per channel a forward and an inverse transform of the output's size
-    and its histogram matching (n log n taken as flat); scaled on heeger_bergen's model in the
-    same run (2048^2 from a 1024 photo: 1.08 s against heeger_bergen's 84 s, its model 0.9x
-    that)."""
+    """Seconds on the reference machine: a pass over the photo's values (the checks before the
+    run, the sample's gather), the sorts of the sampled values, and per channel the output's
+    transforms and histogram matching (the spot's periodic component counted in them: n log n
+    taken as flat). Fitted by least squares to quiet runs from crops of 256^2 to 2048^2 and
+    from the 12 MP setts, to 512^2-2048^2 (0.08-0.74 s; predicted 0.81-1.14x; the former model,
+    scaled on heeger_bergen's, predicted 0.26-0.33x)."""
     h, w, c = shape
-    crop = min(h, height) * min(w, width)
-    return 0.01 + 3e-8 * crop * c + 1.5e-8 * width * height * (2 + 3 * c)
+    sampled = c * -(-h * w // sample_step(h * w, w, SAMPLES))
+    return 0.17 + 1.6e-8 * h * w * c + 5.5e-8 * sampled + 8e-8 * width * height * c
 
 
 METHOD = register(Method(
