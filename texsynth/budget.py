@@ -12,9 +12,10 @@ methods spend their time in, on one thread and without BLAS so that the reading 
 on what ran before in the process). A prediction is for the machine as it is, so the speed is
 multiplied by the load other programs put on it (:func:`contention`: the tasks wanting a core
 per core, read from the kernel, at least 1): ``cost * machine_factor()``, ``machine_factor() =
-speed() * contention()``. Why not a slower calibration run instead: on 2 cores at load 7-9 the
-fastest of the runs still read the quiet machine's speed (0.33-0.41) while runs took 3-20x
-their quiet time, and the median of the runs read 0.39-2.1, neither close nor steady.
+speed() * contention()``. Why not the median of the calibration runs instead of a load
+figure: on 2 cores at load 7-10 the fastest run still read about the quiet machine's speed
+(0.33-0.46) while the methods took 1.3-12x their quiet time, and the median read 0.34-3.6
+in the same processes, following neither.
 
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
@@ -61,8 +62,10 @@ def time_budget() -> float:
 
 
 def _workload() -> Callable[[], float]:
-    """A run of a fixed mix of the methods' kernels that returns its seconds: real FFTs there and
-    back (the pyramids), a gather, a bincount and a sort (the tables and relaxations).
+    """A run of a fixed mix of the methods' kernels that returns its seconds of this thread's
+    CPU time (time other processes take from it is not counted, so the reading stays the quiet
+    machine's under load): real FFTs there and back (the pyramids), a gather, a bincount and a
+    sort (the tables and relaxations).
 
     It touches neither BLAS nor fresh pages, on one thread: OpenBLAS' threads left spinning by
     earlier work took the core a matrix product wanted (a 1.5x slower reading after the
@@ -77,7 +80,7 @@ def _workload() -> Callable[[], float]:
     ordered = np.empty(index.size, np.float32)
 
     def run() -> float:
-        start = time.perf_counter()
+        start = time.thread_time()
         for _ in range(4):
             sfft.irfft2(sfft.rfft2(image, workers=1), image.shape, workers=1)
             np.take(image.ravel(), index, out=gathered)
@@ -86,15 +89,18 @@ def _workload() -> Callable[[], float]:
             np.bincount(bins, minlength=256)
             np.copyto(ordered, gathered)
             ordered.sort()
-        return time.perf_counter() - start
+        return time.thread_time() - start
 
     return run
 
 
 def speed() -> float:
     """This machine's time for the calibration workload over the reference machine's: the
-    fastest of :data:`RUNS` runs after a warm-up (the slower ones lost time slices to other
-    processes: the quiet machine's speed), measured once per process and clipped to 0.1 .. 100.
+    fastest of :data:`RUNS` runs after a warm-up, in this thread's CPU time, so that runs that
+    lost the core to other processes do not read slow (at load 9 on 2 cores a process's fastest
+    wall-clock run read 1.6 or more once; CPU time reads 0.33-0.52 there, the excess being the
+    caches shared with the other processes; 0.33 quiet), measured once per process and clipped
+    to 0.1 .. 100.
 
     Examples
     --------
