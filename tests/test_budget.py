@@ -16,9 +16,60 @@ def test_every_method_predicts_more_time_for_more_pixels(method):
     assert 0 < small < large and np.isfinite(large)
 
 
-def test_the_machine_factor_is_measured_once_and_bounded():
-    first = budget.machine_factor()
-    assert 0.1 <= first <= 100 and budget.machine_factor() == first
+def test_the_speed_is_measured_once_and_the_factor_is_finite():
+    first = budget.speed()
+    assert 0.1 <= first <= 100 and budget.speed() == first
+    assert np.isfinite(budget.machine_factor()) and budget.machine_factor() >= first
+
+
+@pytest.fixture
+def loadavg(monkeypatch, tmp_path):
+    """Writes a /proc/loadavg of its own for the budget, on a machine of 2 cores."""
+    path = tmp_path / "loadavg"
+    monkeypatch.setattr(budget, "LOADAVG", path)
+    monkeypatch.setattr(budget, "WORKERS", 2)
+    monkeypatch.setattr(budget, "_load", None)
+
+    def write(text):
+        path.write_text(text)
+        budget._load = None  # read again at once
+    return write
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("0.30 0.20 0.10 1/250 999\n", 1.0),     # idle: this task alone
+    ("1.90 1.20 0.50 1/250 999\n", 1.0),     # a run that just ended still in the average
+    ("7.50 6.00 3.00 9/300 999\n", 3.75),    # busy: 7.5 tasks a core pair
+    ("9.00 6.00 3.00 3/300 999\n", 1.5),     # the average lags a load that has gone
+    ("nonsense", 1.0),                       # nothing readable: the idle machine's speed
+])
+def test_the_factor_follows_the_tasks_that_want_a_core(loadavg, text, expected):
+    loadavg(text)
+    assert budget.contention() == expected
+    assert budget.machine_factor() == budget.speed() * expected
+
+
+def test_the_load_is_kept_for_a_while_then_read_again(loadavg):
+    loadavg("0.10 0.10 0.10 1/250 999\n")
+    assert budget.contention() == 1.0
+    budget.LOADAVG.write_text("8.00 8.00 8.00 8/250 999\n")
+    assert budget.contention() == 1.0  # the panel redraws often: no file read each time
+    read_at, value = budget._load
+    budget._load = (read_at - budget.REFRESH - 1, value)  # that reading is now too old
+    assert budget.contention() == 4.0
+
+
+def test_a_loaded_machine_refuses_a_run_that_fits_when_idle_naming_the_time(loadavg,
+                                                                            monkeypatch):
+    method = texsynth.get_method("multiscale_mrf")
+    params = method.resolve({})
+    loadavg("0.10 0.10 0.10 1/250 999\n")
+    idle = budget.check_method(method, (64, 64, 3), 512, 512, params)
+    monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", str(2 * idle))
+    loadavg("8.00 8.00 8.00 8/250 999\n")
+    with pytest.raises(ValueError, match=r"512 x 512 with 'multiscale_mrf' is predicted to take "
+                                         r"about [\d.]+ (s|min)"):
+        budget.check_method(method, (64, 64, 3), 512, 512, params)
 
 
 @pytest.mark.parametrize("seconds, text", [(0.42, "0.4 s"), (42, "42 s"), (420, "7 min"),

@@ -173,14 +173,14 @@ def test_copying_methods_copy_the_exact_huge_values():
 
 
 def test_a_run_of_many_hours_is_refused_naming_the_predicted_time(monkeypatch):
-    monkeypatch.setattr(texsynth.budget, "_factor", 1.0)  # the reference machine's speed
+    monkeypatch.setattr(texsynth.budget, "machine_factor", lambda: 1.0)  # the reference machine
     with pytest.raises(ValueError, match=r"efros_leung' is predicted to take about [\d.]+ h.*"
                                          "smaller size.*TEXSYNTH_TIME_BUDGET"):
         texsynth.synthesize(EXEMPLAR, 16384, 16384, method="efros_leung")
 
 
 def test_a_camera_photo_with_efros_leung_is_refused_for_its_time_not_its_memory(monkeypatch):
-    monkeypatch.setattr(texsynth.budget, "_factor", 1.0)  # the reference machine's speed
+    monkeypatch.setattr(texsynth.budget, "machine_factor", lambda: 1.0)  # the reference machine
     photo = np.zeros((3000, 4000, 3), np.uint8)  # 12 MP, as a camera writes it
     with pytest.raises(ValueError, match=r"predicted to take about [\d.]+ days"):
         texsynth.synthesize(photo, 2048, 2048, method="efros_leung")
@@ -196,7 +196,7 @@ def test_the_time_budget_is_the_environment_variable(monkeypatch):
 
 
 def test_a_refusal_proposes_a_faster_method_that_fits(monkeypatch):
-    monkeypatch.setattr(texsynth.budget, "_factor", 1.0)  # the reference machine's speed
+    monkeypatch.setattr(texsynth.budget, "machine_factor", lambda: 1.0)  # the reference machine
     monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", "20")
     _, fastest = min((texsynth.budget.predict(m, EXEMPLAR.shape, 1024, 1024, m.resolve({})), m.name)
                      for m in texsynth.methods() if m.name != "efros_leung")

@@ -7,9 +7,15 @@ patch searches' matrix products, the pyramids' FFTs, the relaxations' gathers) a
 to seconds with coefficients fitted to measured runs (``python -m benchmarks.cost_models``
 prints predictions against measurements); a prediction is good to about a factor of two.
 This machine's speed relative to the reference is measured once per process by a tiny
-calibration run (:func:`machine_factor`, about 0.1 s: the FFTs, gathers, counts and sorts the
+calibration run (:func:`speed`, about 0.1 s: the FFTs, gathers, counts and sorts the
 methods spend their time in, on one thread and without BLAS so that the reading does not depend
-on what ran before in the process), so a prediction is ``cost * machine_factor()``.
+on what ran before in the process). A prediction is for the machine as it is, so the speed is
+multiplied by the load other programs put on it (:func:`contention`: the tasks wanting a core
+per core, read from the kernel, at least 1): ``cost * machine_factor()``, ``machine_factor() =
+speed() * contention()``. Why not the median of the calibration runs instead of a load
+figure: on 2 cores at load 7-10 the fastest run still read about the quiet machine's speed
+(0.33-0.46) while the methods took 1.3-12x their quiet time, and the median read 0.34-3.6
+in the same processes, following neither.
 
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
@@ -20,15 +26,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 import scipy.fft as sfft
 
 from . import validation
+from .blocks.parallel import WORKERS
 from .registry import methods
 
-__all__ = ["time_budget", "machine_factor", "predict", "check_time", "check_method", "describe",
-           "DEFAULT_BUDGET"]
+__all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "check_time",
+           "check_method", "describe", "DEFAULT_BUDGET"]
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
@@ -38,8 +46,13 @@ DEFAULT_BUDGET = 3600.0
 REFERENCE_SECONDS = 0.0062
 #: Runs of the calibration workload (a few ms each) after the warm-up.
 RUNS = 15
+#: Seconds a reading of the load is kept (a Blender session lasts hours; the panel redraws often).
+REFRESH = 60.0
+#: Linux's load figures: the 1-minute average, then runnable/all tasks at this instant.
+LOADAVG = Path("/proc/loadavg")
 
-_factor: float | None = None
+_speed: float | None = None
+_load: tuple[float, float] | None = None  # (time.monotonic() of the reading, contention)
 
 
 def time_budget() -> float:
@@ -49,8 +62,10 @@ def time_budget() -> float:
 
 
 def _workload() -> Callable[[], float]:
-    """A run of a fixed mix of the methods' kernels that returns its seconds: real FFTs there and
-    back (the pyramids), a gather, a bincount and a sort (the tables and relaxations).
+    """A run of a fixed mix of the methods' kernels that returns its seconds of this thread's
+    CPU time (time other processes take from it is not counted, so the reading stays the quiet
+    machine's under load): real FFTs there and back (the pyramids), a gather, a bincount and a
+    sort (the tables and relaxations).
 
     It touches neither BLAS nor fresh pages, on one thread: OpenBLAS' threads left spinning by
     earlier work took the core a matrix product wanted (a 1.5x slower reading after the
@@ -65,7 +80,7 @@ def _workload() -> Callable[[], float]:
     ordered = np.empty(index.size, np.float32)
 
     def run() -> float:
-        start = time.perf_counter()
+        start = time.thread_time()
         for _ in range(4):
             sfft.irfft2(sfft.rfft2(image, workers=1), image.shape, workers=1)
             np.take(image.ravel(), index, out=gathered)
@@ -74,21 +89,75 @@ def _workload() -> Callable[[], float]:
             np.bincount(bins, minlength=256)
             np.copyto(ordered, gathered)
             ordered.sort()
-        return time.perf_counter() - start
+        return time.thread_time() - start
 
     return run
 
 
-def machine_factor() -> float:
+def speed() -> float:
     """This machine's time for the calibration workload over the reference machine's: the
-    fastest of :data:`RUNS` runs after a warm-up (the slower ones lost time slices to other
-    processes), measured once per process and clipped to 0.1 .. 100."""
-    global _factor
-    if _factor is None:
+    fastest of :data:`RUNS` runs after a warm-up, in this thread's CPU time, so that runs that
+    lost the core to other processes do not read slow (at load 9 on 2 cores a process's fastest
+    wall-clock run read 1.6 or more once; CPU time reads 0.33-0.52 there, the excess being the
+    caches shared with the other processes; 0.33 quiet), measured once per process and clipped
+    to 0.1 .. 100.
+
+    Examples
+    --------
+    >>> speed() == speed() and 0.1 <= speed() <= 100
+    True
+    """
+    global _speed
+    if _speed is None:
         run = _workload()
         run()
-        _factor = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
-    return _factor
+        _speed = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
+    return _speed
+
+
+def _runnable() -> float | None:
+    """Tasks that want a core, this one included: the smaller of the 1-minute load average and
+    the count runnable at this instant (the average alone still holds a run that has just
+    ended; the count alone flickers); None where the kernel does not say (not Linux)."""
+    try:
+        fields = LOADAVG.read_text().split()
+        return min(float(fields[0]), float(fields[3].split("/")[0]))
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def contention() -> float:
+    """How many times slower than on the idle machine a run goes now: the tasks that want a core
+    per core (:func:`_runnable` over the cores this process may use), at least 1, at most 100;
+    1 where the kernel does not say. Read again after :data:`REFRESH` seconds.
+
+    Ours, a deviation from fair sharing: a run of k threads among L others gets k / (L + k) of
+    the cores, (L + k) / cores times slower; k is taken as 1 (this task), so a method on every
+    core is predicted up to (cores - 1 + L) / (L + 1) too fast under load.
+
+    Examples
+    --------
+    >>> 1.0 <= contention() <= 100.0
+    True
+    """
+    global _load
+    now = time.monotonic()
+    if _load is None or now - _load[0] > REFRESH:
+        runnable = _runnable()
+        _load = (now, 1.0 if runnable is None else float(np.clip(runnable / WORKERS, 1.0, 100.0)))
+    return _load[1]
+
+
+def machine_factor() -> float:
+    """Seconds on this machine, as loaded now, of a reference second: :func:`speed` times
+    :func:`contention`.
+
+    Examples
+    --------
+    >>> machine_factor() == speed() * contention()
+    True
+    """
+    return speed() * contention()
 
 
 def predict(method, exemplar_shape, width: int, height: int, params: dict) -> float:

@@ -142,9 +142,11 @@ def label(key: str) -> str:
 def _child(kind: str, key: str, extra: list[str], out: str) -> None:
     """One run in this process: its output, wall time, peak memory and the predictions."""
     import texsynth
+    from texsynth import budget
 
     image = photo(key)
-    figures = {"base": jobs.reset_peak()}  # interpreter, imports and the photo
+    factor = budget.machine_factor()  # this machine's speed and load just before the run
+    figures = {"base": jobs.reset_peak(), "factor": factor}  # base: interpreter, imports, photo
     if kind == "synth":
         name, side = extra[0], int(extra[1])
 
@@ -174,24 +176,26 @@ def _job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
          timeout: float | None = None) -> dict:
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
-    return jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env) \
-        | _predicted(kind, photo(key).shape, extra)
+    record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
+    return record | _predicted(kind, photo(key).shape, extra, record.get("factor"))
 
 
-def _predicted(kind: str, shape: tuple, extra: tuple) -> dict:
-    """The library's predictions for a run (its cost and memory models at this machine's
-    speed): pure model calls, so a record kept from a run of the same synthesis code is read
-    with the models as they are now."""
+def _predicted(kind: str, shape: tuple, extra: tuple, factor: float | None) -> dict:
+    """The library's predictions for a run: pure model calls, so a record kept from a run of
+    the same synthesis code is read with the models as they are now, at the machine factor
+    (speed and load) the run's own process read just before it (this process's when the record
+    has none)."""
     from texsynth import budget, get_method, tileable
 
+    scale = 1.0 if factor is None else factor / budget.machine_factor()
     if kind == "tileable":
         seconds, peak = tileable.predict(shape)
-        return {"predicted_s": seconds, "predicted_bytes": peak}
+        return {"predicted_s": seconds * scale, "predicted_bytes": peak}
     if kind != "synth":
         return {}
     method, side = get_method(extra[0]), int(extra[1])
     values = method.resolve({})
-    return {"predicted_s": budget.predict(method, shape, side, side, values),
+    return {"predicted_s": budget.predict(method, shape, side, side, values) * scale,
             "predicted_bytes": float(method.memory(shape, side, side, values))}
 
 
@@ -290,8 +294,9 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "its time from the 12 MP photo over that from the crop (goal: at most "
         f"{CAMERA_OVER_CROP}); peak RSS: the run's process's peak resident memory (VmHWM: "
         "interpreter, imports and the photo included; goal: at most 4 GiB); predicted: "
-        "`texsynth.budget.predict` and `method.memory(...)` (model calls at this machine's "
-        "speed, `budget.machine_factor()`), beside their ratio to the "
+        "`texsynth.budget.predict` and `method.memory(...)` (model calls at the machine factor, "
+        "speed times load, the run's process read just before it: `budget.machine_factor()`), "
+        "beside their ratio to the "
         "measured time and to the growth of resident memory over the call (goal: within 1.5x "
         "either way). Seam: seam ratio; gradient: the "
         "output's mean gradient over the photo's (metrics.gradient_ratio); both two-sided, "

@@ -121,7 +121,7 @@ def _synthesis_prediction(layout):
 def test_the_synthesis_panel_shows_predicted_time_and_memory_before_the_button(addon, monkeypatch):
     material_with(generated_image(noise(24, 32), name="colour"))
     settings = bpy.context.scene.texsynth
-    monkeypatch.setattr(addon.texsynth.budget, "_factor", 1.0)  # the reference machine's speed
+    monkeypatch.setattr(addon.texsynth.budget, "machine_factor", lambda: 1.0)  # reference
     settings.method, settings.width, settings.height = "EFROS_LEUNG", 256, 256
     small = _synthesis_prediction(_draw("TEXSYNTH_PT_synthesize"))
     settings.width = settings.height = 16384

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..blocks import fft
 from ..blocks.histogram import TargetHistogram, match, sample_step
-from ..blocks.periodic import periodic_component
+from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..registry import Method, register
 
 __all__ = ["random_phase", "METHOD"]
@@ -80,24 +80,35 @@ def random_phase(exemplar, width, height, rng, progress):
     m_, n_ = min(h, height), min(w, width)             # the spot's size M x N
     y, x = (h - m_) // 2, (w - n_) // 2
     crop = exemplar[y:y + m_, x:x + n_]
+    whole = (m_, n_) == (height, width)                # the spot fills the output: s~ = p - m
     progress(0.0, "the exemplar's periodic component")
-    p = periodic_component(crop)
-    m = p.mean(axis=(0, 1), dtype=np.float64)
-    values = exemplar.reshape(-1, channels)[::sample_step(h * w, w, SAMPLES)]
-    gain = np.float32(np.sqrt(width * height / (m_ * n_)))
+    if not whole:
+        p = periodic_component(crop)
+        m = p.mean(axis=(0, 1), dtype=np.float64)
+        gain = np.float32(np.sqrt(width * height / (m_ * n_)))
+        spot = np.zeros((height, width), np.float32)
+    step = sample_step(h * w, w, SAMPLES)
+    values = exemplar.reshape(-1, channels)[::step]
+    if step > 1:  # a sample spread over a large photo: read from it once, not once a channel
+        values = np.ascontiguousarray(values)
     progress(0.1, "drawing the random phase")
     spectrum = fft.rfft2(rng.random((height, width), dtype=np.float32))
     spectrum[0, 0] = 1.0                               # theta(0) = 0: the mean is m
     np.divide(spectrum, np.abs(spectrum), out=spectrum, where=spectrum != 0)  # e^(i theta)
-    spot = np.zeros((height, width), np.float32)
     out = np.empty((height, width, channels), np.float32)
     for c in range(channels):
-        spot[:m_, :n_] = p[:, :, c] - np.float32(m[c])
-        spot[:m_, :n_] *= gain
-        modulated = fft.rfft2(spot)
+        if whole:  # F(p) from u's transform and the border's 1-D ones; frequency 0 is m M N
+            modulated = periodic_spectrum(crop[:, :, c])
+            mean = np.float32(modulated[0, 0].real / (m_ * n_))
+            modulated[0, 0] = 0.0
+        else:
+            mean = np.float32(m[c])
+            spot[:m_, :n_] = p[:, :, c] - mean
+            spot[:m_, :n_] *= gain
+            modulated = fft.rfft2(spot)
         modulated *= spectrum
         image = fft.irfft2(modulated, (height, width))
-        image += np.float32(m[c])
+        image += mean
         out[:, :, c] = match(image, TargetHistogram(values[:, c]))
         progress(0.1 + 0.9 * (c + 1) / channels, f"channel {c + 1}/{channels}")
     return out
@@ -120,14 +131,15 @@ def _memory(shape, width, height, params):
 
 
 def _cost(shape, width, height, params):
-    """Seconds on the reference machine: the periodic component of the crop (C channels), the
-    noise's transform, and per channel a forward and an inverse transform of the output's size
-    and its histogram matching (n log n taken as flat); scaled on heeger_bergen's model in the
-    same run (2048^2 from a 1024 photo: 1.08 s against heeger_bergen's 84 s, its model 0.9x
-    that)."""
+    """Seconds on the reference machine: a pass over the photo's values (the checks before the
+    run, the sample's gather), the sorts of the sampled values, and per channel the output's
+    transforms and histogram matching (the spot's periodic component counted in them: n log n
+    taken as flat). Fitted by least squares to quiet runs from crops of 256^2 to 2048^2 and
+    from the 12 MP setts, to 512^2-2048^2 (0.08-0.74 s; predicted 0.81-1.14x; the former model,
+    scaled on heeger_bergen's, predicted 0.26-0.33x)."""
     h, w, c = shape
-    crop = min(h, height) * min(w, width)
-    return 0.01 + 3e-8 * crop * c + 1.5e-8 * width * height * (2 + 3 * c)
+    sampled = c * -(-h * w // sample_step(h * w, w, SAMPLES))
+    return 0.17 + 1.6e-8 * h * w * c + 5.5e-8 * sampled + 8e-8 * width * height * c
 
 
 METHOD = register(Method(

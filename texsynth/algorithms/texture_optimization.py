@@ -81,9 +81,10 @@ MATCH_ITERATIONS = 2
 #: Exemplar patches a level's search table holds before they are taken on a lattice.
 SOURCES = 1 << 21
 #: Memory model (bytes an output pixel, and per channel) and cost model (reference seconds an
-#: output pixel at two sizes, and a search table's lattice point): see ``_memory``, ``_cost``.
+#: output pixel at two sizes, a search table's lattice point, and a pixel of a level whose
+#: copies are aligned): see ``_memory``, ``_cost``.
 MEM_OUT, MEM_OUT_C = 100, 16
-COST_OUT, COST_TABLE = 3.2e-5, 1.0e-5
+COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
@@ -348,12 +349,17 @@ def _memory(shape, width, height, params):
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``): per EM iteration and patch size,
     a PatchMatch over the output, its votes and final pass (about 4/3 of the finest level's
-    output over all levels), and the finest level's search tables (its lattice points),
-    fitted to 1024 -> 2048 and 12 MP -> 2048."""
+    output over all levels), and the finest level's search tables (its lattice points); and the
+    copies' alignment after each patch size of every level but the finest (``align_regions``:
+    its labelling and seam costs over the level, about a third of the output's pixels a patch
+    size). Fitted to 1024 -> 2048 from the 12 MP setts' centre, the 12 MP setts, the brick
+    wall and the gravel (quiet: 77-91 s, the alignment 4-11 % of it; predicted 0.95-1.07x)."""
     c = shape[2]
     work = params["iterations"] / 3 * c / 3
     table = sum(r * k for r, k in _tables(shape, params))
-    return 0.2 + (COST_OUT * params["sizes"] / 2 * width * height + COST_TABLE * table) * work
+    align = COST_ALIGN * params["sizes"] * width * height / 3 * c / 3
+    return 0.2 + (COST_OUT * params["sizes"] / 2 * width * height + COST_TABLE * table) * work \
+        + align
 
 
 METHOD = register(Method(
