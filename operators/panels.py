@@ -78,8 +78,10 @@ def _draw_prediction(layout, settings, found) -> None:
 
 @functools.lru_cache(maxsize=16)
 def _tileable_prediction(shape, band):
-    """``texsynth.tileable.predict``, kept per (photo size, band): the panel redraws often."""
-    return texsynth.tileable.predict(shape, band)
+    """``texsynth.tileable.predict`` on the idle machine, kept per (photo size, band): the panel
+    redraws often; the load is applied at each draw (:func:`_draw_tileable_prediction`)."""
+    seconds, need = texsynth.tileable.predict(shape, band)
+    return seconds / texsynth.budget.machine_factor(), need
 
 
 def _draw_tileable_prediction(layout, settings, found) -> None:
@@ -90,6 +92,7 @@ def _draw_tileable_prediction(layout, settings, found) -> None:
         return
     try:
         seconds, need = _tileable_prediction(shape, settings.band or None)
+        seconds *= texsynth.budget.machine_factor()
     except ValueError as error:
         layout.label(text=str(error), icon="ERROR")
         return
