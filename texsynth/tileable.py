@@ -66,10 +66,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import budget, validation
+from .blocks import poisson
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
-__all__ = ["make_tileable", "make_tileable_positions", "default_band", "predict"]
+__all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict"]
 
 #: Narrowest band accepted, and the default band's least width (pixels).
 MIN_BAND, DEFAULT_MIN = 8, 16
@@ -498,7 +499,74 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                      report.span(0.5, 0.99), used)
     out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
     positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
-    if scale != 1.0:
-        out = given[positions[:, :, 0], positions[:, :, 1]]
+    report(0.99, "Make tileable: gradient-domain correction")
+    out = _correct(out, given, a, scale, positions, band)
     report(1.0, "Make tileable: done")
     return out, positions
+
+
+def follow(positions, image, *, band: int | None = None) -> np.ndarray:
+    """Another map of the photo's material (normal, roughness, height... of the photo's size)
+    made to tile the way :func:`make_tileable_positions` made the photo: its pixels moved by
+    ``positions``, then the band corrected from the map's own gradients (Pérez et al. 2003, as
+    the photo's). ``band`` must be the one the photo was made with (default
+    :func:`default_band`). Given the photo itself, it gives back the photo's result bit for bit.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (H, W, C), ``image``'s size and channels (uint8/uint16 scaled to [0, 1]).
+
+    References
+    ----------
+    Pérez, Gangnet & Blake 2003, 2-3 (``texsynth.blocks.poisson``).
+
+    Examples
+    --------
+    >>> photo = np.random.default_rng(0).random((48, 48, 3)).astype(np.float32)
+    >>> tile, positions = make_tileable_positions(photo)
+    >>> bool((follow(positions, photo) == tile).all())
+    True
+    """
+    given = validation.image(image, what="image", min_side=MIN_SIDE, channels=None)
+    p = np.asarray(positions)
+    if p.shape != given.shape[:2] + (2,) or p.dtype.kind not in "iu":
+        raise ValueError(f"positions must be an integer array of the image's size "
+                         f"({given.shape[0]}, {given.shape[1]}, 2), got {p.dtype} {p.shape}")
+    if p.min() < 0 or (p.reshape(-1, 2).max(axis=0) >= given.shape[:2]).any():
+        raise ValueError("positions point outside the image: give the map of the photo's size "
+                         "that the positions were made for")
+    band = default_band(given.shape) if band is None else validation.whole(
+        band, "band (pixels)", 1)
+    if not MIN_BAND <= band <= _widest(given.shape):
+        raise ValueError(f"band must be between {MIN_BAND} and {_widest(given.shape)} pixels, "
+                         f"the band the photo was made with, got {band}")
+    scale = validation.magnitude_scale(given)
+    a = given if scale == 1.0 else (given.astype(np.float64) * scale).astype(np.float32)
+    return _correct(a[p[:, :, 0], p[:, :, 1]], given, a, scale, p, band)
+
+
+def _cross(shape, band: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rows and the columns of the band's two arms (the cross across the wrap)."""
+    h, w = shape[:2]
+    return (np.arange(band) - band // 2) % h, (np.arange(band) - band // 2) % w
+
+
+def _correct(out, given, a, scale, positions, band) -> np.ndarray:
+    """The quilt ``out`` of ``a`` (``given`` times the power of two ``scale``) with its cross
+    replaced by Pérez et al. 2003's guided interpolation (``texsynth.blocks.poisson``), guided
+    by the gradients of the pieces of ``a`` at ``positions``, clipped to ``a``'s range in each
+    channel (the correction makes no value the photo does not have), and brought back to
+    ``given``'s magnitude: outside the cross, ``given``'s own pixels."""
+    lo, hi = a.min(axis=(0, 1)), a.max(axis=(0, 1))
+    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()))
+    rows, cols = _cross(out.shape, band)
+    out[rows] = np.clip(out[rows], lo, hi)
+    out[:, cols] = np.clip(out[:, cols], lo, hi)
+    if scale == 1.0:
+        return out
+    result = given.copy()
+    # Dividing by a power of two is exact (in float64, where 2^-k may be below float32's range).
+    result[rows] = (out[rows] / scale).astype(np.float32)
+    result[:, cols] = (out[:, cols] / scale).astype(np.float32)
+    return result
