@@ -31,8 +31,17 @@ The wrap line lies inside whole copied patches: it is no seam any more. What rem
 cuts, placed where the two sides agree; the middle cut absorbs what no single patch could,
 such as courses of bricks whose count does not fit the photo's height (a course a little
 shorter, cut along a joint). Pixels are copied whole, never averaged: the band is as sharp as
-the photo, and the position map is exact (``texsynth.apply_positions`` makes the other maps of
-the material tile the same way; the kept pixels map to themselves).
+the photo.
+
+What no cut can hide is a difference of level: a photo lit from one side is brighter along one
+edge than along the other, and the pieces, continuing each side, still meet with a step. So
+the cross is then replaced by Pérez, Gangnet & Blake 2003, "Poisson image editing", 2-3
+(guided interpolation, ``texsynth.blocks.poisson``): the function whose gradient is the
+pieces' own (taken piece by piece: a cut contributes no gradient) and which equals the kept
+photo at the band's outer edges, on the torus. The level difference is spread smoothly over
+the band's width; the pieces' detail is kept as it is. The position map says which photo
+pixel each piece pixel came from; :func:`follow` makes another map of the material tile the
+same way (its pixels moved, and the same correction from its own gradients).
 
 Deviations, one line each:
 - two rows of patches across the band (Efros & Freeman fill a raster of patches; the two rows
@@ -54,8 +63,16 @@ Deviations, one line each:
   left of the crossing, fitted before those right of it, cut off a joint of the kept photo
   there), and bottom to top made the generated brick wall's wrap read 0.76-0.80 in phase in
   2 of 6 seeds;
-- no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
-  the photo's edges is unchanged, and every changed pixel is a photo pixel.
+- no blending of the pieces: the cuts and the correction stay within the band, so every pixel
+  farther than ``band / 2`` from the photo's edges is unchanged;
+- the correction covers the whole cross, the photo's own pixels within the band included (Pérez
+  et al. replace one pasted region), and is clipped to the photo's range in each channel;
+- across a cut, the guidance is the one of the two pieces' own gradients nearer the difference
+  shown (Pérez et al. take one image's, or the larger, eq. 12-13): a joint shown beside the
+  cut stays, an edge of what the cut left out (a ledge beyond it) is not brought back;
+- where the line just beyond the band is unlike the photo's inner lines (``_unlike``: a
+  ledge, a shadow along the edge), the band keeps its step to it: matched there, the band
+  faded into the ledge's dark over 1000-2500 pixels (the deep ledge tests).
 """
 
 from __future__ import annotations
@@ -376,25 +393,37 @@ def _work(lay: _Layout) -> tuple[float, float]:
     return patches * ((lay.h - 2 * e) // f) * ((lay.w - 2 * e) // f), refine
 
 
+#: The gradient-domain correction's sweeps the models count (4 on every large photo).
+SWEEPS = 4
+
+
 def _cost(lay: _Layout, c: int) -> float:
     """Seconds on the reference machine: the searches' FFTs (:func:`_work`), fitted by
     non-negative least squares on quiet runs of 1024^2 photos with bands of 48, 128 and 256,
     2048^2 and 4000 x 3000 with 150 and 375 (within 0.82-1.27 of each); the cuts' dynamic
-    programmes and the photo-sized copies took no measurable share beside them."""
+    programmes and the photo-sized copies took no measurable share beside them. The
+    correction: ``SWEEPS`` x the cross's pixels and their edge rows, per channel, at the
+    seconds each took beside the quilting in the same runs (1024^2, 2048^2, 4000 x 3000 at
+    their default bands: 0.12-0.22 of the quilting's time; within 0.78-1.28 of this)."""
     coarse, refine = _work(lay)
-    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2)
+    cross = SWEEPS * (lay.b + 2) * (lay.h + lay.w) * c
+    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2) + 8.2e-8 * cross
 
 
 def _memory(lay: _Layout, c: int) -> float:
     """Peak bytes: the result and its positions (the photo's size: float32 channels and two
-    int32), an arm's strips and positions (about five copies: the photo across the arm, the
-    two rows of patches, the result), the block means (float64) and the search's spectra
-    (complex128, per channel and the squares). A photo given as bytes adds its float32 copy."""
+    int32), the block means (float64) and the search's spectra (complex128, per channel and
+    the squares), and the larger of: an arm's strips and positions (about five copies: the
+    photo across the arm, the two rows of patches, the result) while quilting, the
+    correction's float64 strips (about 7.5 of a strip with its edge rows: the strip, its
+    residual and spectrum, the guidance; 7.1-7.3 measured at 1024^2-4000 x 3000) after it.
+    A photo given as bytes adds its float32 copy."""
     h, w, side, f, e = lay.h, lay.w, lay.side, lay.f, lay.e
     photo = h * w * (4 * c + 8)
     arm = 5 * side * max(h, w) * (4 * c + 8)
+    correction = 7.5 * (lay.b + 2) * max(h, w) * c * 8
     search = (h // f) * w * c * 8 + ((h - 2 * e) // f) * ((w - 2 * e) // f) * (c + 1) * 16 * 2
-    return float(photo + arm + search)
+    return float(photo + search + max(arm, correction))
 
 
 def make_tileable(photo, *, band: int | None = None, seed: int = 0,
@@ -418,11 +447,11 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     -------
     numpy.ndarray
         Every pixel farther than ``band / 2`` from the photo's edges unchanged; the band made
-        of whole photo pixels.
+        of photo pieces, their level corrected to meet the kept photo without a step.
 
     References
     ----------
-    Efros & Freeman 2001, 2.1 (see the module's docstring).
+    Efros & Freeman 2001, 2.1; Pérez, Gangnet & Blake 2003, 2-3 (see the module's docstring).
 
     Examples
     --------
@@ -439,16 +468,17 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                             progress: Callable[[float, str], object] | None = None
                             ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`make_tileable` and its position map, int32 (H, W, 2) (row, col) into the photo:
-    ``texsynth.apply_positions(positions, other_map)`` makes another map of the material tile
-    the same way (the kept pixels map to themselves).
+    where each pixel's piece came from (the kept pixels map to themselves).
+    ``follow(positions, other_map, band=band)`` makes another map of the material tile the
+    same way; ``texsynth.apply_positions`` gives the pieces before the band's correction.
 
     Examples
     --------
-    >>> import texsynth
-    >>> photo = np.random.default_rng(0).random((48, 48)).astype(np.float32)
-    >>> tile, positions = make_tileable_positions(photo)
-    >>> bool((texsynth.apply_positions(positions, photo) == tile[:, :, 0]).all())
-    True
+    >>> photo = np.random.default_rng(0).random((48, 48, 3)).astype(np.float32)
+    >>> tile, positions = make_tileable_positions(photo)  # a band of 16: 8 pixels in from the edges
+    >>> bool((follow(positions, photo) == tile).all()), bool((tile[8:40, 8:40] == photo[
+    ...     8:40, 8:40]).all())
+    (True, True)
     """
     a = validation.image(photo, what="photo", min_side=MIN_SIDE)
     seed = validation.seed(seed)
@@ -559,7 +589,13 @@ def _correct(out, given, a, scale, positions, band) -> np.ndarray:
     channel (the correction makes no value the photo does not have), and brought back to
     ``given``'s magnitude: outside the cross, ``given``'s own pixels."""
     lo, hi = a.min(axis=(0, 1)), a.max(axis=(0, 1))
-    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()))
+    h, w = a.shape[:2]
+    # The lines just beyond the band: where one is unlike the photo (a ledge, a shadow along
+    # an edge), the band keeps its step to it rather than fade into it.
+    before, after = -1 - band // 2, band - band // 2
+    kept_steps = (tuple(_unlike(a, np.array([before % h, after % h]), band)),
+                  tuple(_unlike(a.transpose(1, 0, 2), np.array([before % w, after % w]), band)))
+    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()), kept_steps)
     rows, cols = _cross(out.shape, band)
     out[rows] = np.clip(out[rows], lo, hi)
     out[:, cols] = np.clip(out[:, cols], lo, hi)

@@ -10,8 +10,8 @@ Here Omega is the band of ``b`` pixels across each wrap line of a torus (a cross
 strip around the whole width, a vertical one around the whole height), f* the photo kept
 outside it, and v_pq the gradient of the photo pieces pasted at p and q, taken piece by piece
 (:func:`guidance`): where p and q come from one piece it is their own difference, across a cut
-p's piece's own gradient there, so the cut contributes no step; the wrap lies inside pieces, so
-the solution tiles.
+one of the two pieces' own gradients there (the one nearer what is shown), so the cut
+contributes no step of level; the wrap lies inside pieces, so the solution tiles.
 
 Each strip alone is a rectangle, periodic along its length and fixed at its two long edges:
 the real FFT along the strip leaves one tridiagonal system across it per frequency, solved
@@ -45,36 +45,52 @@ MAX_SWEEPS = 12
 
 def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarray:
     """v_pq for output pixels p and their neighbours q = p + ``step``, which show the ``source``
-    pixels at positions ``p`` and ``q`` (int, (..., 2) (row, col)): p's piece's own gradient
-    there, source[p + step] - source[p], or where p is on the source's last line, q's,
-    source[q] - source[q - step] (0 if neither is inside). Pixels of one piece (q = p + step in
-    the source) get their own difference; across a cut q's pixel does not count.
+    pixels at positions ``p`` and ``q`` (int, (..., 2) (row, col)). Pixels of one piece (q =
+    p + step in the source) get their own difference. Across a cut, each piece offers its own
+    gradient there, p's source[p + step] - source[p] and q's source[q] - source[q - step]
+    (each only where it lies inside the source); of these, the one nearer the difference
+    actually shown, source[q] - source[p] (per channel; 0 if neither is inside): an edge shown
+    on the cut is kept (a joint beside it), an edge of a pixel the cut left out is not (a
+    ledge beyond it), and the step between the pieces' levels is no piece's gradient.
 
     Examples
     --------
     >>> source = np.arange(12, dtype=np.float32).reshape(3, 4, 1)  # rows step 4, columns 1
-    >>> p = np.array([[0, 0], [2, 1], [1, 3]])  # one piece; a cut; p on the last column
-    >>> q = np.array([[0, 1], [0, 3], [0, 0]])
+    >>> source[1, 3] = 9.0  # an edge before (1, 3)
+    >>> p = np.array([[0, 0], [0, 2], [2, 1], [1, 3]])  # one piece; a cut twice; p at the end
+    >>> q = np.array([[0, 1], [1, 3], [0, 3], [0, 0]])
     >>> guidance(source, p, q, (0, 1))[:, 0].tolist()
-    [1.0, 1.0, 0.0]
+    [1.0, 3.0, 1.0, 0.0]
     """
     h, w = source.shape[:2]
-    step = np.asarray(step)
-    after, before = p + step, q - step
-    has_after = (after[..., 0] < h) & (after[..., 1] < w)
-    has_before = (before[..., 0] >= 0) & (before[..., 1] >= 0)
-    # Where p has a pixel after it, the pair (p, p + step); else (q - step, q), if q has one.
-    first = np.where(has_after[..., None], p, np.maximum(before, 0))
-    second = np.where(has_after[..., None], np.minimum(after, [h - 1, w - 1]), q)
-    v = source[second[..., 0], second[..., 1]] - source[first[..., 0], first[..., 1]]
-    return np.where((has_after | has_before)[..., None], v, 0).astype(np.float32)
+    dy, dx = step
+    has_after = (p[..., 0] + dy < h) & (p[..., 1] + dx < w)
+    has_before = (q[..., 0] >= dy) & (q[..., 1] >= dx)
+    at_p = p[..., 0].astype(np.intp) * w + p[..., 1]
+    at_q = q[..., 0].astype(np.intp) * w + q[..., 1]
+    offset = dy * w + dx
+    flat = source.reshape(h * w, -1)
+    shown_p, shown_q = np.take(flat, at_p, axis=0), np.take(flat, at_q, axis=0)
+    v_p = np.take(flat, np.minimum(at_p + offset, h * w - 1), axis=0) - shown_p
+    v_q = shown_q - np.take(flat, np.maximum(at_q - offset, 0), axis=0)
+    shown = shown_q - shown_p
+    # A candidate outside the source is never the nearer (one inside is taken; else 0).
+    far_p = np.where(has_after[..., None], np.abs(v_p - shown), np.inf)
+    far_q = np.where(has_before[..., None], np.abs(v_q - shown), np.inf)
+    v = np.where(far_p <= far_q, v_p, v_q)
+    v[~(has_after | has_before)] = 0
+    return v
 
 
-def _divergence(source, at, across, along) -> np.ndarray:
+def _divergence(source, at, across, along, kept_step) -> np.ndarray:
     """div v on the strip's pixels, (b, L, C): ``at`` (b + 2, L, 2) the positions of the strip
-    and its edge rows, ``across`` and ``along`` the source steps of the strip's two axes."""
+    and its edge rows, ``across`` and ``along`` the source steps of the strip's two axes;
+    ``kept_step`` (2,) bool: across the first (last) edge v is the difference shown."""
     looped = np.concatenate([at, at[:, :1]], axis=1)  # the last pixel's neighbour along: first
     v_across = guidance(source, at[:-1], at[1:], across)  # (b + 1, L, C)
+    for k, (i, j) in enumerate(((0, 1), (-2, -1))):
+        if kept_step[k]:
+            v_across[i] = source[at[j, :, 0], at[j, :, 1]] - source[at[i, :, 0], at[i, :, 1]]
     v_along = guidance(source, looped[1:-1, :-1], looped[1:-1, 1:], along)  # (b, L, C)
     return v_across[1:] - v_across[:-1] + v_along - np.roll(v_along, 1, axis=1)
 
@@ -113,16 +129,20 @@ def solve_strip(first: np.ndarray, last: np.ndarray, div: np.ndarray) -> np.ndar
 
 
 def correct_cross(out: np.ndarray, source: np.ndarray, positions: np.ndarray, b: int,
-                  span: float) -> int:
+                  span: float, kept_steps=((False, False), (False, False))) -> int:
     """Pérez et al. 2003, 3, on the cross of ``b`` pixels across the wrap of ``out`` (H, W, C),
     in place: ``out`` outside the cross is f*, ``positions`` (H, W, 2) say which ``source``
     pixel each output pixel shows (the guidance). ``span``: the photo's range, for
-    ``TOLERANCE``. Returns the sweeps made."""
+    ``TOLERANCE``. ``kept_steps``: for the horizontal arm's edge before it and after it, and
+    the vertical arm's, whether the step shown across it is kept (a line of the photo beyond
+    the band unlike the rest of it, such as a ledge, that the band should not fade into).
+    Returns the sweeps made."""
     h, w = out.shape[:2]
     rows = (np.arange(-1, b + 1) - b // 2) % h  # the horizontal strip and its edge rows
     cols = (np.arange(-1, b + 1) - b // 2) % w
-    div_h = _divergence(source, positions[rows], (1, 0), (0, 1))
-    div_v = _divergence(source, positions[:, cols].transpose(1, 0, 2), (0, 1), (1, 0))
+    div_h = _divergence(source, positions[rows], (1, 0), (0, 1), kept_steps[0])
+    div_v = _divergence(source, positions[:, cols].transpose(1, 0, 2), (0, 1), (1, 0),
+                        kept_steps[1])
     sweeps = 0
     for sweeps in range(1, MAX_SWEEPS + 1):
         change = 0.0
