@@ -70,9 +70,10 @@ Deviations, one line each:
 - across a cut, the guidance is the one of the two pieces' own gradients nearer the difference
   shown (Pérez et al. take one image's, or the larger, eq. 12-13): a joint shown beside the
   cut stays, an edge of what the cut left out (a ledge beyond it) is not brought back;
-- where the line just beyond the band is unlike the photo's inner lines (``_unlike``: a
-  ledge, a shadow along the edge), the band keeps its step to it: matched there, the band
-  faded into the ledge's dark over 1000-2500 pixels (the deep ledge tests).
+- where the line just beyond the band is unlike the photo's inner lines (``_unlike``, in a
+  channel by itself: a ledge, a shadow along the edge), the band keeps its step to it in that
+  channel: matched there, the band faded into the ledge's dark over 1000-2500 pixels (the
+  deep ledge tests).
 """
 
 from __future__ import annotations
@@ -255,18 +256,19 @@ class _Source:
         return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
 
 
-def _unlike(photo: np.ndarray, rows: np.ndarray, b: int) -> np.ndarray:
+def _unlike(photo: np.ndarray, rows: np.ndarray, b: int, channels: bool = False) -> np.ndarray:
     """Which of the ``rows`` of ``photo`` (h, w, C) have a mean colour like none of the inner
-    rows' (those farther than ``b`` from the edges): bool (len(rows),). An edge's ledge or
-    shadow is unlike them; a course of joints recurs inside and is not."""
+    rows' (those farther than ``b`` from the edges): bool (len(rows),); with ``channels``, in
+    each channel by itself, (len(rows), C). An edge's ledge or shadow is unlike them; a course
+    of joints recurs inside and is not."""
     mean = photo.mean(axis=1, dtype=np.float32)
     inner = mean[b:len(photo) - b]
     if len(inner) < MIN_INNER:
-        return np.zeros(len(rows), bool)
+        return np.zeros((len(rows), photo.shape[2]) if channels else len(rows), bool)
     sigma = 1.4826 * np.median(np.abs(inner - np.median(inner, axis=0)), axis=0)
     # Unlike every inner row: for each, farther than UNLIKE sigma in some channel.
     far = np.abs(mean[rows][:, None] - inner[None]) > UNLIKE * sigma
-    return far.any(axis=2).all(axis=1)
+    return far.all(axis=1) if channels else far.any(axis=2).all(axis=1)
 
 
 def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used):
@@ -593,8 +595,10 @@ def _correct(out, given, a, scale, positions, band) -> np.ndarray:
     # The lines just beyond the band: where one is unlike the photo (a ledge, a shadow along
     # an edge), the band keeps its step to it rather than fade into it.
     before, after = -1 - band // 2, band - band // 2
-    kept_steps = (tuple(_unlike(a, np.array([before % h, after % h]), band)),
-                  tuple(_unlike(a.transpose(1, 0, 2), np.array([before % w, after % w]), band)))
+    # Channel by channel, so that a map follows as its channels would alone (:func:`follow`).
+    kept_steps = (_unlike(a, np.array([before % h, after % h]), band, channels=True),
+                  _unlike(a.transpose(1, 0, 2), np.array([before % w, after % w]), band,
+                          channels=True))
     poisson.correct_cross(out, a, positions, band, float((hi - lo).max()), kept_steps)
     rows, cols = _cross(out.shape, band)
     out[rows] = np.clip(out[rows], lo, hi)

@@ -85,12 +85,13 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarr
 def _divergence(source, at, across, along, kept_step) -> np.ndarray:
     """div v on the strip's pixels, (b, L, C): ``at`` (b + 2, L, 2) the positions of the strip
     and its edge rows, ``across`` and ``along`` the source steps of the strip's two axes;
-    ``kept_step`` (2,) bool: across the first (last) edge v is the difference shown."""
+    ``kept_step`` (2, C) bool: in those channels, across the first (last) edge v is the
+    difference shown."""
     looped = np.concatenate([at, at[:, :1]], axis=1)  # the last pixel's neighbour along: first
     v_across = guidance(source, at[:-1], at[1:], across)  # (b + 1, L, C)
     for k, (i, j) in enumerate(((0, 1), (-2, -1))):
-        if kept_step[k]:
-            v_across[i] = source[at[j, :, 0], at[j, :, 1]] - source[at[i, :, 0], at[i, :, 1]]
+        shown = source[at[j, :, 0], at[j, :, 1]] - source[at[i, :, 0], at[i, :, 1]]
+        v_across[i] = np.where(kept_step[k], shown, v_across[i])
     v_along = guidance(source, looped[1:-1, :-1], looped[1:-1, 1:], along)  # (b, L, C)
     return v_across[1:] - v_across[:-1] + v_along - np.roll(v_along, 1, axis=1)
 
@@ -129,14 +130,16 @@ def solve_strip(first: np.ndarray, last: np.ndarray, div: np.ndarray) -> np.ndar
 
 
 def correct_cross(out: np.ndarray, source: np.ndarray, positions: np.ndarray, b: int,
-                  span: float, kept_steps=((False, False), (False, False))) -> int:
+                  span: float, kept_steps=None) -> int:
     """Pérez et al. 2003, 3, on the cross of ``b`` pixels across the wrap of ``out`` (H, W, C),
     in place: ``out`` outside the cross is f*, ``positions`` (H, W, 2) say which ``source``
     pixel each output pixel shows (the guidance). ``span``: the photo's range, for
-    ``TOLERANCE``. ``kept_steps``: for the horizontal arm's edge before it and after it, and
-    the vertical arm's, whether the step shown across it is kept (a line of the photo beyond
-    the band unlike the rest of it, such as a ledge, that the band should not fade into).
-    Returns the sweeps made."""
+    ``TOLERANCE``. ``kept_steps`` (2, 2, C) bool, default none: for the horizontal arm's edge
+    before it and after it, and the vertical arm's, in which channels the step shown across
+    it is kept (a line of the photo beyond the band unlike the rest of it, such as a ledge,
+    that the band should not fade into). Returns the sweeps made."""
+    if kept_steps is None:
+        kept_steps = np.zeros((2, 2, out.shape[2]), bool)
     h, w = out.shape[:2]
     rows = (np.arange(-1, b + 1) - b // 2) % h  # the horizontal strip and its edge rows
     cols = (np.arange(-1, b + 1) - b // 2) % w
