@@ -68,7 +68,7 @@ Deviations, one line each:
 - the correction covers the whole cross, the photo's own pixels within the band included (Pérez
   et al. replace one pasted region), and is clipped to the photo's range in each channel;
 - across a cut, the guidance is the one of the two pieces' own gradients nearer the difference
-  shown (Pérez et al. take one image's, or the larger, eq. 12-13): a joint shown beside the
+  shown (Pérez et al. 3 take one image's, or the larger: mixing gradients): a joint beside the
   cut stays, an edge of what the cut left out (a ledge beyond it) is not brought back;
 - where the line just beyond the band is unlike the photo's inner lines (``_unlike``, in a
   channel by itself: a ledge, a shadow along the edge), the band keeps its step to it in that
@@ -519,7 +519,7 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
     across = _Source(inside, coarse, lay.f, e, swap=False)
     strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
-                     report.span(0.02, 0.5), used)
+                     report.span(0.02, 0.45), used)
     out[rows[band_rows]] = strip[band_rows]
     positions[rows[band_rows]] = at[band_rows]
 
@@ -528,11 +528,10 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                    None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
     strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
                      _unlike(a.transpose(1, 0, 2), cols, band), down, lay, rng,
-                     report.span(0.5, 0.99), used)
+                     report.span(0.45, 0.85), used)
     out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
     positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
-    report(0.99, "Make tileable: gradient-domain correction")
-    out = _correct(out, given, a, scale, positions, band)
+    out = _correct(out, given, a, scale, positions, band, report.span(0.85, 0.99))
     report(1.0, "Make tileable: done")
     return out, positions
 
@@ -584,12 +583,13 @@ def _cross(shape, band: int) -> tuple[np.ndarray, np.ndarray]:
     return (np.arange(band) - band // 2) % h, (np.arange(band) - band // 2) % w
 
 
-def _correct(out, given, a, scale, positions, band) -> np.ndarray:
+def _correct(out, given, a, scale, positions, band, report=None) -> np.ndarray:
     """The quilt ``out`` of ``a`` (``given`` times the power of two ``scale``) with its cross
     replaced by Pérez et al. 2003's guided interpolation (``texsynth.blocks.poisson``), guided
     by the gradients of the pieces of ``a`` at ``positions``, clipped to ``a``'s range in each
     channel (the correction makes no value the photo does not have), and brought back to
-    ``given``'s magnitude: outside the cross, ``given``'s own pixels."""
+    ``given``'s magnitude: outside the cross, ``given``'s own pixels. ``report``: a
+    ``Progress`` span, told after each strip's solve."""
     lo, hi = a.min(axis=(0, 1)), a.max(axis=(0, 1))
     h, w = a.shape[:2]
     # The lines just beyond the band: where one is unlike the photo (a ledge, a shadow along
@@ -599,7 +599,9 @@ def _correct(out, given, a, scale, positions, band) -> np.ndarray:
     kept_steps = (_unlike(a, np.array([before % h, after % h]), band, channels=True),
                   _unlike(a.transpose(1, 0, 2), np.array([before % w, after % w]), band,
                           channels=True))
-    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()), kept_steps)
+    tick = None if report is None else (
+        lambda done: report(min(1.0, done / (2 * SWEEPS)), "Make tileable: level of the band"))
+    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()), kept_steps, tick)
     rows, cols = _cross(out.shape, band)
     out[rows] = np.clip(out[rows], lo, hi)
     out[:, cols] = np.clip(out[:, cols], lo, hi)

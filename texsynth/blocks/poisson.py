@@ -2,7 +2,7 @@
 
 Pérez et al. 2003, "Poisson image editing", 2-3: inside a region Omega the image is replaced by
 the function f whose gradient is closest to a guidance field v, with f equal to the image f* on
-the boundary dOmega: the discrete Poisson equation (their eq. 7)
+the boundary dOmega: their discrete Poisson equation (section 2)
 
     |N_p| f_p - sum_{q in N_p cap Omega} f_q = sum_{q in N_p cap dOmega} f*_q + sum_q v_pq.
 
@@ -98,7 +98,7 @@ def _divergence(source, at, across, along, kept_step) -> np.ndarray:
 
 def solve_strip(first: np.ndarray, last: np.ndarray, div: np.ndarray) -> np.ndarray:
     """f on a strip (b, L, C), periodic along its length L and fixed to the rows ``first``
-    before it and ``last`` after it (L, C), with Laplacian ``div`` (Pérez et al. eq. 7, the
+    before it and ``last`` after it (L, C), with Laplacian ``div`` (Pérez et al. 2, the
     5-point stencil): the real FFT along the strip makes it one tridiagonal system across it
     per frequency, solved exactly (Thomas' algorithm, all frequencies at once), in float64.
 
@@ -130,14 +130,15 @@ def solve_strip(first: np.ndarray, last: np.ndarray, div: np.ndarray) -> np.ndar
 
 
 def correct_cross(out: np.ndarray, source: np.ndarray, positions: np.ndarray, b: int,
-                  span: float, kept_steps=None) -> int:
+                  span: float, kept_steps=None, tick=None) -> int:
     """Pérez et al. 2003, 3, on the cross of ``b`` pixels across the wrap of ``out`` (H, W, C),
     in place: ``out`` outside the cross is f*, ``positions`` (H, W, 2) say which ``source``
     pixel each output pixel shows (the guidance). ``span``: the photo's range, for
     ``TOLERANCE``. ``kept_steps`` (2, 2, C) bool, default none: for the horizontal arm's edge
     before it and after it, and the vertical arm's, in which channels the step shown across
     it is kept (a line of the photo beyond the band unlike the rest of it, such as a ledge,
-    that the band should not fade into). Returns the sweeps made."""
+    that the band should not fade into). ``tick(solves)``, if given, is called after each
+    strip's solve (where the caller may cancel). Returns the sweeps made."""
     if kept_steps is None:
         kept_steps = np.zeros((2, 2, out.shape[2]), bool)
     h, w = out.shape[:2]
@@ -153,7 +154,7 @@ def correct_cross(out: np.ndarray, source: np.ndarray, positions: np.ndarray, b:
             strip = (out[:, index].transpose(1, 0, 2) if across else out[index]).astype(
                 np.float64)
             # The correction delta of the strip's inside: zero at its edges, its Laplacian the
-            # residual of eq. 7 for the current values.
+            # residual of the discrete Poisson equation for the current values.
             residual = div - _laplacian(strip)
             delta = solve_strip(np.zeros_like(strip[0]), np.zeros_like(strip[0]), residual)
             change = max(change, float(np.abs(delta).max()))
@@ -162,6 +163,8 @@ def correct_cross(out: np.ndarray, source: np.ndarray, positions: np.ndarray, b:
                 out[:, index[1:-1]] = f.transpose(1, 0, 2)
             else:
                 out[index[1:-1]] = f
+            if tick is not None:
+                tick(2 * sweeps - 1 + across)
         if sweeps > 1 and change <= TOLERANCE * span:
             break
     return sweeps
