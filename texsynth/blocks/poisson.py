@@ -64,21 +64,25 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarr
     """
     h, w = source.shape[:2]
     dy, dx = step
-    has_after = (p[..., 0] + dy < h) & (p[..., 1] + dx < w)
-    has_before = (q[..., 0] >= dy) & (q[..., 1] >= dx)
+    offset = dy * w + dx
     at_p = p[..., 0].astype(np.intp) * w + p[..., 1]
     at_q = q[..., 0].astype(np.intp) * w + q[..., 1]
-    offset = dy * w + dx
     flat = source.reshape(h * w, -1)
-    shown_p, shown_q = np.take(flat, at_p, axis=0), np.take(flat, at_q, axis=0)
-    v_p = np.take(flat, np.minimum(at_p + offset, h * w - 1), axis=0) - shown_p
-    v_q = shown_q - np.take(flat, np.maximum(at_q - offset, 0), axis=0)
-    shown = shown_q - shown_p
+    v = np.take(flat, at_q, axis=0)
+    v -= np.take(flat, at_p, axis=0)  # the difference shown
+    # One piece where q is p's next pixel in the source (and the source's lines do not wrap).
+    cut = (at_q != at_p + offset) | (p[..., 1] + dx >= w)
+    p, q, at_p, at_q, shown = p[cut], q[cut], at_p[cut], at_q[cut], v[cut]
+    has_after = (p[:, 0] + dy < h) & (p[:, 1] + dx < w)
+    has_before = (q[:, 0] >= dy) & (q[:, 1] >= dx)
+    v_p = np.take(flat, np.minimum(at_p + offset, h * w - 1), axis=0) - np.take(flat, at_p, axis=0)
+    v_q = np.take(flat, at_q, axis=0) - np.take(flat, np.maximum(at_q - offset, 0), axis=0)
     # A candidate outside the source is never the nearer (one inside is taken; else 0).
-    far_p = np.where(has_after[..., None], np.abs(v_p - shown), np.inf)
-    far_q = np.where(has_before[..., None], np.abs(v_q - shown), np.inf)
-    v = np.where(far_p <= far_q, v_p, v_q)
-    v[~(has_after | has_before)] = 0
+    far_p = np.where(has_after[:, None], np.abs(v_p - shown), np.inf)
+    far_q = np.where(has_before[:, None], np.abs(v_q - shown), np.inf)
+    chosen = np.where(far_p <= far_q, v_p, v_q)
+    chosen[~(has_after | has_before)] = 0
+    v[cut] = chosen
     return v
 
 
