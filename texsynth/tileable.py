@@ -405,11 +405,12 @@ def _cost(lay: _Layout, c: int) -> float:
     2048^2 and 4000 x 3000 with 150 and 375 (within 0.82-1.27 of each); the cuts' dynamic
     programmes and the photo-sized copies took no measurable share beside them. The
     correction: ``SWEEPS`` x the cross's pixels and their edge rows, per channel, at the
-    seconds each took beside the quilting in the same runs (1024^2, 2048^2, 4000 x 3000 at
-    their default bands: 0.12-0.22 of the quilting's time; within 0.78-1.28 of this)."""
+    seconds it took beside the quilting in the same runs (1024^2 and 2048^2 twice, 4000 x 3000
+    once, at their default bands, on a loaded machine: 0.20-0.41 of the whole time; the
+    coefficient within 0.47-1.18 of each, 0.82-1.18 but for one run)."""
     coarse, refine = _work(lay)
     cross = SWEEPS * (lay.b + 2) * (lay.h + lay.w) * c
-    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2) + 8.2e-8 * cross
+    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2) + 1.6e-7 * cross
 
 
 def _memory(lay: _Layout, c: int) -> float:
