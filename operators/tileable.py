@@ -3,7 +3,8 @@
 The photo keeps its size and its pixels except in a band across its edges, re-synthesized from
 the photo's own patches (``texsynth.make_tileable``). With ``all_maps`` the images of the other
 *selected* Image Texture nodes of the material (normal, roughness, height maps of the same size)
-follow the same pixel positions, so every map of the material tiles the same way. Each result is
+follow the same pixel positions and the same correction of the band, from their own pixels
+(``texsynth.tileable.follow``), so every map of the material tiles the same way. Each result is
 a new image and a new node beside its source node, taking over that node's links, as
 ``texsynth.synthesize`` does; the user's images are never changed. Everything is checked and
 computed before anything is made: on error or cancel the file is unchanged.
@@ -56,14 +57,14 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
         maps = [(node_name, values, encoding, self.target(image.name, SUFFIX))
                 for node_name, image, values, encoding
                 in source.read_maps(context, src, followers=self.all_maps)]
-        job = Job(texsynth.make_tileable_positions, maps[0][1], band=self.band or None,
+        job = Job(_tile_all, maps[0][1], [m[1] for m in maps[1:]], band=self.band or None,
                   seed=self.seed)
         return job, (src, maps)
 
     def make(self, result, plan):
         src, maps = plan
-        image, positions = result
-        values = [image] + [texsynth.apply_positions(positions, m[1]) for m in maps[1:]]
+        values = result
+        image = values[0]
         made = [output.create_image(v, encoding, target)
                 for (_, _, encoding, target), v in zip(maps, values, strict=True)]
         tree, _ = source.source_node(src)
@@ -80,6 +81,13 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
         h, w = image.shape[:2]  # made[0].size would load a saved file at once
         return (f"Made {len(made)} image(s) tileable ({w} x {h}): "
                 + ", ".join(f"'{m.name}'" for m in made))
+
+
+def _tile_all(photo, followers, *, band, seed, progress):
+    """The photo made to tile, then each follower the same way (in the worker thread)."""
+    image, positions = texsynth.make_tileable_positions(photo, band=band, seed=seed,
+                                                        progress=progress)
+    return [image] + [texsynth.tileable.follow(positions, m, band=band) for m in followers]
 
 
 classes = (TEXSYNTH_OT_make_tileable,)

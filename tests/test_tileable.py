@@ -1,18 +1,25 @@
 """texsynth.make_tileable: the photo itself made to tile, its centre kept, the band across the
-wrap quilted from its own pixels (as sharp as the photo), the other maps following the same
-positions."""
+wrap quilted from its own pixels (as sharp as the photo) and its level corrected (no step where
+the light differs), the other maps following the same way."""
 
 from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.ndimage import gaussian_filter
 
 import texsynth
 from texsynth.io import read_image
-from texsynth.metrics import band_sharpness, gradient_ratio, seam_ratio, seam_ratio_in_phase
-from texsynth.tileable import default_band, predict
+from texsynth.metrics import (
+    band_sharpness,
+    gradient_ratio,
+    mean_gradient,
+    seam_ratio,
+    seam_ratio_in_phase,
+)
+from texsynth.tileable import default_band, follow, predict
 
-from _images import smooth_noise
+from _images import ramp_photo, smooth_noise
 
 SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
 
@@ -105,20 +112,54 @@ def test_the_band_is_as_sharp_as_the_photo(made):
     assert 0.95 <= gradient_ratio(photo, out) <= 1.05
 
 
-def test_the_band_is_photo_pixels_and_the_rest_is_the_photo(made):
-    _, photo, out, positions = made
-    assert np.array_equal(photo[positions[:, :, 0], positions[:, :, 1]], out)
-    h, w = photo.shape[:2]
+def _kept(shape, band):
+    """The pixels farther than ``band / 2`` from the photo's edges."""
+    h, w = shape[:2]
     i, j = np.mgrid[:h, :w]
-    band = default_band(photo.shape)
     # Distance to the nearest edge, counted from the seam between the last and first pixel.
     to_edge = np.minimum(np.minimum(i + 0.5, h - 0.5 - i), np.minimum(j + 0.5, w - 0.5 - j))
-    kept = to_edge > band / 2 + 0.5
+    return to_edge > band / 2 + 0.5
+
+
+def test_the_rest_is_the_photo_and_the_band_its_pieces_levelled_smoothly(made):
+    _, photo, out, positions = made
+    h, w = photo.shape[:2]
+    i, j = np.mgrid[:h, :w]
+    kept = _kept(photo.shape, default_band(photo.shape))
     assert np.array_equal(out[kept], photo[kept])
     assert (positions[kept, 0] == i[kept]).all() and (positions[kept, 1] == j[kept]).all()
     same = (out == photo).all(axis=2)
     assert same.mean() >= 0.5
     assert not same[~kept].all()  # the band did change
+    # The correction of the pieces' level is smooth: no detail of its own (a tenth of the
+    # photo's gradient at most; 0.02-0.05 on these).
+    pieces = photo[positions[:, :, 0], positions[:, :, 1]]
+    assert mean_gradient(out - pieces) < 0.1 * mean_gradient(photo)
+
+
+def _high_pass(image, band):
+    """``image`` less its blur at a quarter of the band: a step survives, the band's smooth
+    change of level (a photo lit from one side must turn back from one edge's level to the
+    other's within the band) does not."""
+    return image - gaussian_filter(image, (band / 4, band / 4, 0), mode="wrap")
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_photo_lit_from_one_side_tiles_without_a_step(seed):
+    """Noise on a ramp twice its own range (left to right): the pieces continuing each side of
+    the band still met with a step at the cuts (high-passed, across the band 2.0-2.1 on these
+    before the band's level was corrected). The ramp itself must turn back within the band
+    whatever is done there (the kept photo is fixed): the plain seam ratio reads that turn
+    (1.4-1.6 here), a step-free band reads 1 once it is high-passed."""
+    photo = ramp_photo((128, 160), seed=seed % 2)
+    band = default_band(photo.shape)
+    out = texsynth.make_tileable(photo, seed=seed)
+    kept = _kept(photo.shape, band)
+    assert np.array_equal(out[kept], photo[kept])
+    assert seam_ratio(photo) > 10
+    detail = _high_pass(out, band)
+    assert LOW <= _across_band(detail, band) <= HIGH  # 1.06-1.08
+    assert 0.9 <= band_sharpness(detail, band) <= 1.1  # 0.96-1.02
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -166,9 +207,14 @@ def test_other_maps_of_the_material_follow():
     photo = cracked()
     out, positions = texsynth.make_tileable_positions(photo, seed=1)
     height = photo.mean(axis=2) ** 2  # a second map of the same material
-    moved = texsynth.apply_positions(positions, height)
+    moved = follow(positions, height)
+    assert moved.shape == height.shape + (1,) and moved.dtype == np.float32
     assert seam_ratio(height) > 2 and LOW <= seam_ratio(moved) <= HIGH
-    assert np.array_equal(moved, out.mean(axis=2) ** 2)
+    kept = _kept(photo.shape, default_band(photo.shape))
+    assert np.array_equal(moved[kept, 0], height[kept])
+    assert np.array_equal(follow(positions, photo), out)  # the photo follows into its result
+    with pytest.raises(ValueError, match="positions"):
+        follow(positions, height[:, :-1])
 
 
 def test_the_seed_chooses_the_patches_and_repeats_exactly():
@@ -190,7 +236,9 @@ def test_bytes_grey_and_alpha(kind):
     assert out.shape == (*photo.shape[:2], channels) and out.dtype == np.float32
     scale = {"uint8": 255, "uint16": 65535}.get(kind, 1)
     source = np.asarray(given, np.float32).reshape(out.shape) / scale
-    assert np.array_equal(out, source[positions[:, :, 0], positions[:, :, 1]])
+    assert np.array_equal(out, follow(positions, given))
+    kept = _kept(photo.shape, default_band(photo.shape))
+    assert np.array_equal(out[kept], source[kept])
     assert seam_ratio(out) <= HIGH
     if kind == "rgba":
         assert (out[:, :, 3] == 1).all()
@@ -250,10 +298,17 @@ def test_a_camera_photo_fits_the_default_budgets():
 
 @pytest.mark.parametrize("scale", [1e30, 1e-30, 3e38])
 def test_huge_and_tiny_values_tile_as_ordinary_ones(scale):
-    """Squared differences of values near 1e30 overflow float32: the photo is quilted at an
-    exact power-of-two scale, so it tiles as its ordinary copy does, in its own pixels."""
+    """Squared differences of values near 1e30 overflow float32: the photo is quilted and
+    corrected at an exact power-of-two scale, so it tiles as its ordinary copy does, its kept
+    pixels its own."""
     photo = smooth_noise((104, 120), seed=3, sigma=2.5)[17:81, 23:103] * 0.8 + 0.1  # no wrap
     huge = (photo.astype(np.float64) * scale).astype(np.float32)
     tile, positions = texsynth.make_tileable_positions(huge, seed=2)
-    assert np.array_equal(tile, huge[positions[:, :, 0], positions[:, :, 1]])
+    power = texsynth.validation.magnitude_scale(huge)  # exact: a power of two
+    ordinary, expected = texsynth.make_tileable_positions(
+        (huge.astype(np.float64) * power).astype(np.float32), seed=2)
+    assert np.array_equal(positions, expected) and np.isfinite(tile).all()
+    kept = _kept(photo.shape, default_band(photo.shape))
+    assert np.array_equal(tile[kept], huge[kept])
+    assert np.array_equal((tile.astype(np.float64) * power).astype(np.float32), ordinary)
     assert seam_ratio(huge / np.float32(scale)) > 2 and seam_ratio(tile / np.float32(scale)) < 1.3

@@ -43,7 +43,7 @@ from .api import synthesize, synthesize_positions
 from .io.files import TEMP_PREFIX, encode, is_linear, png_bits, read_photo, write_image
 from .positions import apply_positions
 from .registry import get_method
-from .tileable import make_tileable_positions
+from .tileable import follow, make_tileable_positions
 
 __all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "run", "run_job",
            "is_done"]
@@ -331,7 +331,9 @@ def run_job(job: Job) -> str:
     Path(job.outputs[0]).parent.mkdir(parents=True, exist_ok=True)
     write_image(job.outputs[0], result, bits=job.bits)
     for out, image in zip(job.outputs[1:], maps, strict=True):
-        write_image(out, apply_positions(positions, image), bits=job.bits)
+        moved = (follow(positions, image, band=job.band) if job.operation == "tile"
+                 else apply_positions(positions, image))
+        write_image(out, moved, bits=job.bits)
     for out in job.outputs:
         _write_key(out, job_key)
     return "done"

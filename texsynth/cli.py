@@ -19,6 +19,7 @@ when piped; an error is one line naming the file or option, with the exit codes 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import logging
 import math
@@ -37,7 +38,7 @@ from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, rectify
 from .positions import apply_positions
 from .progress import Cancelled
 from .registry import get_method, methods
-from .tileable import make_tileable_positions
+from .tileable import follow, make_tileable_positions
 
 __all__ = ["main", "EXIT_CODES", "Bar"]
 
@@ -275,14 +276,14 @@ def _write(path: Path, image, source: Path, args, colour: bool) -> None:
     print(f"wrote {path}")
 
 
-def _write_all(args, result, positions, maps) -> None:
+def _write_all(args, result, positions, maps, moved_by=apply_positions) -> None:
     outputs = _map_outputs(args.output, args.maps)
     _write(args.output, result, args.photo, args, colour=True)
     if args.preview:
         preview = args.output.with_name(args.output.stem + "_tiled.png")
         _write(preview, tile_preview(result, 2, 2), args.photo, args, colour=True)
     for path, source, image in zip(outputs, args.maps, maps, strict=True):
-        _write(path, apply_positions(positions, image), source, args, colour=False)
+        _write(path, moved_by(positions, image), source, args, colour=False)
 
 
 def run_synthesize(args, bar: Bar) -> None:
@@ -317,7 +318,7 @@ def run_tile(args, bar: Bar) -> None:
     result, positions = make_tileable_positions(photo, band=args.band, seed=args.seed,
                                                 progress=bar)
     bar.close()
-    _write_all(args, result, positions, maps)
+    _write_all(args, result, positions, maps, functools.partial(follow, band=args.band))
 
 
 def _estimate(args, photo):

@@ -31,8 +31,17 @@ The wrap line lies inside whole copied patches: it is no seam any more. What rem
 cuts, placed where the two sides agree; the middle cut absorbs what no single patch could,
 such as courses of bricks whose count does not fit the photo's height (a course a little
 shorter, cut along a joint). Pixels are copied whole, never averaged: the band is as sharp as
-the photo, and the position map is exact (``texsynth.apply_positions`` makes the other maps of
-the material tile the same way; the kept pixels map to themselves).
+the photo.
+
+What no cut can hide is a difference of level: a photo lit from one side is brighter along one
+edge than along the other, and the pieces, continuing each side, still meet with a step. So
+the cross is then replaced by Pérez, Gangnet & Blake 2003, "Poisson image editing", 2-3
+(guided interpolation, ``texsynth.blocks.poisson``): the function whose gradient is the
+pieces' own (taken piece by piece: a cut contributes no gradient) and which equals the kept
+photo at the band's outer edges, on the torus. The level difference is spread smoothly over
+the band's width; the pieces' detail is kept as it is. The position map says which photo
+pixel each piece pixel came from; :func:`follow` makes another map of the material tile the
+same way (its pixels moved, and the same correction from its own gradients).
 
 Deviations, one line each:
 - two rows of patches across the band (Efros & Freeman fill a raster of patches; the two rows
@@ -54,8 +63,17 @@ Deviations, one line each:
   left of the crossing, fitted before those right of it, cut off a joint of the kept photo
   there), and bottom to top made the generated brick wall's wrap read 0.76-0.80 in phase in
   2 of 6 seeds;
-- no blending: the cuts stay within the band, so every pixel farther than ``band / 2`` from
-  the photo's edges is unchanged, and every changed pixel is a photo pixel.
+- no blending of the pieces: the cuts and the correction stay within the band, so every pixel
+  farther than ``band / 2`` from the photo's edges is unchanged;
+- the correction covers the whole cross, the photo's own pixels within the band included (Pérez
+  et al. replace one pasted region), and is clipped to the photo's range in each channel;
+- across a cut, the guidance is the one of the two pieces' own gradients nearer the difference
+  shown (Pérez et al. 3 take one image's, or the larger: mixing gradients): a joint beside the
+  cut stays, an edge of what the cut left out (a ledge beyond it) is not brought back;
+- where the line just beyond the band is unlike the photo's inner lines (``_unlike``, in a
+  channel by itself: a ledge, a shadow along the edge), the band keeps its step to it in that
+  channel: matched there, the band faded into the ledge's dark over 1000-2500 pixels (the
+  deep ledge tests).
 """
 
 from __future__ import annotations
@@ -66,10 +84,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import budget, validation
+from .blocks import poisson
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
-__all__ = ["make_tileable", "make_tileable_positions", "default_band", "predict"]
+__all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict"]
 
 #: Narrowest band accepted, and the default band's least width (pixels).
 MIN_BAND, DEFAULT_MIN = 8, 16
@@ -237,18 +256,19 @@ class _Source:
         return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
 
 
-def _unlike(photo: np.ndarray, rows: np.ndarray, b: int) -> np.ndarray:
+def _unlike(photo: np.ndarray, rows: np.ndarray, b: int, channels: bool = False) -> np.ndarray:
     """Which of the ``rows`` of ``photo`` (h, w, C) have a mean colour like none of the inner
-    rows' (those farther than ``b`` from the edges): bool (len(rows),). An edge's ledge or
-    shadow is unlike them; a course of joints recurs inside and is not."""
+    rows' (those farther than ``b`` from the edges): bool (len(rows),); with ``channels``, in
+    each channel by itself, (len(rows), C). An edge's ledge or shadow is unlike them; a course
+    of joints recurs inside and is not."""
     mean = photo.mean(axis=1, dtype=np.float32)
     inner = mean[b:len(photo) - b]
     if len(inner) < MIN_INNER:
-        return np.zeros(len(rows), bool)
+        return np.zeros((len(rows), photo.shape[2]) if channels else len(rows), bool)
     sigma = 1.4826 * np.median(np.abs(inner - np.median(inner, axis=0)), axis=0)
     # Unlike every inner row: for each, farther than UNLIKE sigma in some channel.
     far = np.abs(mean[rows][:, None] - inner[None]) > UNLIKE * sigma
-    return far.any(axis=2).all(axis=1)
+    return far.all(axis=1) if channels else far.any(axis=2).all(axis=1)
 
 
 def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used):
@@ -375,25 +395,38 @@ def _work(lay: _Layout) -> tuple[float, float]:
     return patches * ((lay.h - 2 * e) // f) * ((lay.w - 2 * e) // f), refine
 
 
+#: The gradient-domain correction's sweeps the models count (4 on every large photo).
+SWEEPS = 4
+
+
 def _cost(lay: _Layout, c: int) -> float:
     """Seconds on the reference machine: the searches' FFTs (:func:`_work`), fitted by
     non-negative least squares on quiet runs of 1024^2 photos with bands of 48, 128 and 256,
     2048^2 and 4000 x 3000 with 150 and 375 (within 0.82-1.27 of each); the cuts' dynamic
-    programmes and the photo-sized copies took no measurable share beside them."""
+    programmes and the photo-sized copies took no measurable share beside them. The
+    correction: ``SWEEPS`` x the cross's pixels and their edge rows, per channel, at the
+    seconds it took beside the quilting in the same runs (1024^2 and 2048^2 twice, 4000 x 3000
+    once, at their default bands, on a loaded machine: 0.20-0.41 of the whole time; the
+    coefficient within 0.47-1.18 of each, 0.82-1.18 but for one run)."""
     coarse, refine = _work(lay)
-    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2)
+    cross = SWEEPS * (lay.b + 2) * (lay.h + lay.w) * c
+    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2) + 1.6e-7 * cross
 
 
 def _memory(lay: _Layout, c: int) -> float:
     """Peak bytes: the result and its positions (the photo's size: float32 channels and two
-    int32), an arm's strips and positions (about five copies: the photo across the arm, the
-    two rows of patches, the result), the block means (float64) and the search's spectra
-    (complex128, per channel and the squares). A photo given as bytes adds its float32 copy."""
+    int32), the block means (float64) and the search's spectra (complex128, per channel and
+    the squares), and the larger of: an arm's strips and positions (about five copies: the
+    photo across the arm, the two rows of patches, the result) while quilting, the
+    correction's float64 strips (about 7.5 of a strip with its edge rows: the strip, its
+    residual and spectrum, the guidance; 7.1-7.3 measured at 1024^2-4000 x 3000) after it.
+    A photo given as bytes adds its float32 copy."""
     h, w, side, f, e = lay.h, lay.w, lay.side, lay.f, lay.e
     photo = h * w * (4 * c + 8)
     arm = 5 * side * max(h, w) * (4 * c + 8)
+    correction = 7.5 * (lay.b + 2) * max(h, w) * c * 8
     search = (h // f) * w * c * 8 + ((h - 2 * e) // f) * ((w - 2 * e) // f) * (c + 1) * 16 * 2
-    return float(photo + arm + search)
+    return float(photo + search + max(arm, correction))
 
 
 def make_tileable(photo, *, band: int | None = None, seed: int = 0,
@@ -417,11 +450,11 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     -------
     numpy.ndarray
         Every pixel farther than ``band / 2`` from the photo's edges unchanged; the band made
-        of whole photo pixels.
+        of photo pieces, their level corrected to meet the kept photo without a step.
 
     References
     ----------
-    Efros & Freeman 2001, 2.1 (see the module's docstring).
+    Efros & Freeman 2001, 2.1; Pérez, Gangnet & Blake 2003, 2-3 (see the module's docstring).
 
     Examples
     --------
@@ -438,16 +471,17 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                             progress: Callable[[float, str], object] | None = None
                             ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`make_tileable` and its position map, int32 (H, W, 2) (row, col) into the photo:
-    ``texsynth.apply_positions(positions, other_map)`` makes another map of the material tile
-    the same way (the kept pixels map to themselves).
+    where each pixel's piece came from (the kept pixels map to themselves).
+    ``follow(positions, other_map, band=band)`` makes another map of the material tile the
+    same way; ``texsynth.apply_positions`` gives the pieces before the band's correction.
 
     Examples
     --------
-    >>> import texsynth
-    >>> photo = np.random.default_rng(0).random((48, 48)).astype(np.float32)
-    >>> tile, positions = make_tileable_positions(photo)
-    >>> bool((texsynth.apply_positions(positions, photo) == tile[:, :, 0]).all())
-    True
+    >>> photo = np.random.default_rng(0).random((48, 48, 3)).astype(np.float32)
+    >>> tile, positions = make_tileable_positions(photo)  # a band of 16: 8 pixels in from the edges
+    >>> bool((follow(positions, photo) == tile).all()), bool((tile[8:40, 8:40] == photo[
+    ...     8:40, 8:40]).all())
+    (True, True)
     """
     a = validation.image(photo, what="photo", min_side=MIN_SIDE)
     seed = validation.seed(seed)
@@ -486,7 +520,7 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
     across = _Source(inside, coarse, lay.f, e, swap=False)
     strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
-                     report.span(0.02, 0.5), used)
+                     report.span(0.02, 0.45), used)
     out[rows[band_rows]] = strip[band_rows]
     positions[rows[band_rows]] = at[band_rows]
 
@@ -495,10 +529,87 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                    None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
     strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
                      _unlike(a.transpose(1, 0, 2), cols, band), down, lay, rng,
-                     report.span(0.5, 0.99), used)
+                     report.span(0.45, 0.85), used)
     out[:, cols[band_rows]] = strip[band_rows].transpose(1, 0, 2)
     positions[:, cols[band_rows]] = at[band_rows].transpose(1, 0, 2)
-    if scale != 1.0:
-        out = given[positions[:, :, 0], positions[:, :, 1]]
+    out = _correct(out, given, a, scale, positions, band, report.span(0.85, 0.99))
     report(1.0, "Make tileable: done")
     return out, positions
+
+
+def follow(positions, image, *, band: int | None = None) -> np.ndarray:
+    """Another map of the photo's material (normal, roughness, height... of the photo's size)
+    made to tile the way :func:`make_tileable_positions` made the photo: its pixels moved by
+    ``positions``, then the band corrected from the map's own gradients (Pérez et al. 2003, as
+    the photo's). ``band`` must be the one the photo was made with (default
+    :func:`default_band`). Given the photo itself, it gives back the photo's result bit for bit.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (H, W, C), ``image``'s size and channels (uint8/uint16 scaled to [0, 1]).
+
+    References
+    ----------
+    Pérez, Gangnet & Blake 2003, 2-3 (``texsynth.blocks.poisson``).
+
+    Examples
+    --------
+    >>> photo = np.random.default_rng(0).random((48, 48, 3)).astype(np.float32)
+    >>> tile, positions = make_tileable_positions(photo)
+    >>> bool((follow(positions, photo) == tile).all())
+    True
+    """
+    given = validation.image(image, what="image", min_side=MIN_SIDE, channels=None)
+    p = np.asarray(positions)
+    if p.shape != given.shape[:2] + (2,) or p.dtype.kind not in "iu":
+        raise ValueError(f"positions must be an integer array of the image's size "
+                         f"({given.shape[0]}, {given.shape[1]}, 2), got {p.dtype} {p.shape}")
+    if p.min() < 0 or (p.reshape(-1, 2).max(axis=0) >= given.shape[:2]).any():
+        raise ValueError("positions point outside the image: give the map of the photo's size "
+                         "that the positions were made for")
+    band = default_band(given.shape) if band is None else validation.whole(
+        band, "band (pixels)", 1)
+    if not MIN_BAND <= band <= _widest(given.shape):
+        raise ValueError(f"band must be between {MIN_BAND} and {_widest(given.shape)} pixels, "
+                         f"the band the photo was made with, got {band}")
+    scale = validation.magnitude_scale(given)
+    a = given if scale == 1.0 else (given.astype(np.float64) * scale).astype(np.float32)
+    return _correct(a[p[:, :, 0], p[:, :, 1]], given, a, scale, p, band)
+
+
+def _cross(shape, band: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rows and the columns of the band's two arms (the cross across the wrap)."""
+    h, w = shape[:2]
+    return (np.arange(band) - band // 2) % h, (np.arange(band) - band // 2) % w
+
+
+def _correct(out, given, a, scale, positions, band, report=None) -> np.ndarray:
+    """The quilt ``out`` of ``a`` (``given`` times the power of two ``scale``) with its cross
+    replaced by Pérez et al. 2003's guided interpolation (``texsynth.blocks.poisson``), guided
+    by the gradients of the pieces of ``a`` at ``positions``, clipped to ``a``'s range in each
+    channel (the correction makes no value the photo does not have), and brought back to
+    ``given``'s magnitude: outside the cross, ``given``'s own pixels. ``report``: a
+    ``Progress`` span, told after each strip's solve."""
+    lo, hi = a.min(axis=(0, 1)), a.max(axis=(0, 1))
+    h, w = a.shape[:2]
+    # The lines just beyond the band: where one is unlike the photo (a ledge, a shadow along
+    # an edge), the band keeps its step to it rather than fade into it.
+    before, after = -1 - band // 2, band - band // 2
+    # Channel by channel, so that a map follows as its channels would alone (:func:`follow`).
+    kept_steps = (_unlike(a, np.array([before % h, after % h]), band, channels=True),
+                  _unlike(a.transpose(1, 0, 2), np.array([before % w, after % w]), band,
+                          channels=True))
+    tick = None if report is None else (
+        lambda done: report(min(1.0, done / (2 * SWEEPS)), "Make tileable: level of the band"))
+    poisson.correct_cross(out, a, positions, band, float((hi - lo).max()), kept_steps, tick)
+    rows, cols = _cross(out.shape, band)
+    out[rows] = np.clip(out[rows], lo, hi)
+    out[:, cols] = np.clip(out[:, cols], lo, hi)
+    if scale == 1.0:
+        return out
+    result = given.copy()
+    # Dividing by a power of two is exact (in float64, where 2^-k may be below float32's range).
+    result[rows] = (out[rows] / scale).astype(np.float32)
+    result[:, cols] = (out[:, cols] / scale).astype(np.float32)
+    return result

@@ -31,10 +31,10 @@ def test_the_photo_becomes_a_new_tileable_image_and_node(addon):
     assert made.name == "wall_tileable_0" and tuple(made.size) == (80, 64)
     assert np.array_equal(pixels_of(bpy.data.images["wall"]), user_pixels)  # untouched
     result = pixels_of(made)[:, :, :3]
-    # The wrap, a step of 5.4x the photo's own, is gone. On 80 x 64 smooth noise the seam ratio
-    # itself spreads: 0.86-1.37 over 4 such photos x 5 seeds before the rings closed halfway
-    # along the arms, 0.85-1.71 after (this photo: 1.31 at seed 0).
-    assert seam_ratio(user_pixels[:, :, :3]) > 2 and 0.7 < seam_ratio(result) < 1.5
+    # The wrap, a step of 5.4x the photo's own, is gone, and no softer than the photo: 1.06
+    # (1.31 while the cuts kept the pieces' difference of level, before the band's correction;
+    # over 4 such photos x 5 seeds 0.73-1.22, then 0.93-1.69).
+    assert seam_ratio(user_pixels[:, :, :3]) > 2 and 0.85 < seam_ratio(result) < 1.15
     # Most pixels are the photo's own (8-bit storage: within a byte step).
     kept = (np.abs(result - user_pixels[:, :, :3]) < 1.5 / 255).all(axis=2)
     assert kept.mean() >= 0.5 and kept[16:48, 20:60].all()
@@ -45,13 +45,15 @@ def test_the_photo_becomes_a_new_tileable_image_and_node(addon):
 
 def test_selected_maps_follow_with_the_same_positions(addon):
     colour = photo(1)
-    tree = material_with(generated_image(colour, name="colour"))
-    # A roughness map whose every pixel is unique: where each output pixel came from is
-    # readable from its value.
-    ids = ((np.arange(64 * 80, dtype=np.float32) + 1) / (64 * 80 + 1)).reshape(64, 80, 1)
+    # Floats as they are (an sRGB colour is corrected in linear light, a data map as it is).
+    tree = material_with(generated_image(colour, name="colour", float_buffer=True,
+                                         colorspace="Non-Color"))
+    # A roughness map that is the colour's red channel: it must come out as the colour's red
+    # does (the same pieces and the same correction of the band).
+    red = colour[:, :, :1].copy()
     rough = tree.nodes.new("ShaderNodeTexImage")
     rough.name = "rough node"
-    rough.image = generated_image(ids, name="rough", float_buffer=True, colorspace="Non-Color")
+    rough.image = generated_image(red, name="rough", float_buffer=True, colorspace="Non-Color")
     rough.select = True
     tree.nodes["source node"].select = True
     images_before = set(bpy.data.images)
@@ -60,10 +62,13 @@ def test_selected_maps_follow_with_the_same_positions(addon):
 
     made = {i.name: i for i in set(bpy.data.images) - images_before}
     assert set(made) == {"colour_tileable_2", "rough_tileable_2"}
-    index = np.rint(pixels_of(made["rough_tileable_2"])[:, :, 0] * (64 * 80 + 1) - 1).astype(int)
-    expected = pixels_of(bpy.data.images["colour"])[:, :, :3].reshape(-1, 3)[index]
-    assert np.abs(pixels_of(made["colour_tileable_2"])[:, :, :3] - expected).max() < 1.5 / 255
-    assert (index != np.arange(64 * 80).reshape(64, 80)).any()  # the band did change
+    followed = pixels_of(made["rough_tileable_2"])[:, :, 0]
+    expected = pixels_of(made["colour_tileable_2"])[:, :, 0]
+    # Each channel is corrected by itself; the sweeps end when all of a map's channels are
+    # within a quarter of an 8-bit step of the solution.
+    assert np.abs(followed - expected).max() < 1 / 255
+    assert seam_ratio(red[:, :, 0]) > 2 and 0.85 < seam_ratio(followed) < 1.15
+    assert not np.array_equal(followed, red[:, :, 0])  # the band did change
 
 
 def test_errors_change_nothing(addon):
