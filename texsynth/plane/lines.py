@@ -139,7 +139,8 @@ def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     these give more families. Step edges are the more precise on clean, high-contrast joints,
     and a board's grain (itself a bundle of fine ridges) would hide its seams' spacing; the
     joints of real walls and pavements are lines a few pixels wide, irregular and shaded,
-    whose two weak edges leave a family out.
+    whose two weak edges leave a family out. Two families come with their collinear segments
+    joined (:func:`_joined`); a lone one as found, for its spacing (:func:`spaced_horizon`).
 
     Parameters
     ----------
@@ -174,6 +175,8 @@ def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     if len(edges) < 2:
         centres = families(fine_segments(lum, small, k, mask, image, ridges=True), side)
         edges = centres if len(centres) > len(edges) else edges
+    if len(edges) < 2:  # a lone family's spacing test (_SPACED_Z) was calibrated on pieces
+        return edges
     return [f if f.dense else _joined(f) for f in edges]
 
 
