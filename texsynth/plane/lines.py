@@ -11,6 +11,8 @@ luminance and two chroma channels finds it where the two weak edges of its sides
 Families are vanishing points found by RANSAC on the Gauss sphere (Barnard 1983; the
 consistency test of Rother 2002: the angle between a segment and the line from its midpoint
 to the vanishing point), refined by least squares; segments weigh by length and contrast.
+Within each of two families, collinear segments are then joined across their gaps into one line
+(:func:`_joined`): a joint broken by every brick is one long, precise line.
 
 On a plane the families' directions are parallel, and (bricks, tiles, planks, weaves) the two
 main families are orthogonal. For a plane hypothesis, :class:`LineCost` back-projects every
