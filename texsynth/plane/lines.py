@@ -11,6 +11,8 @@ luminance and two chroma channels finds it where the two weak edges of its sides
 Families are vanishing points found by RANSAC on the Gauss sphere (Barnard 1983; the
 consistency test of Rother 2002: the angle between a segment and the line from its midpoint
 to the vanishing point), refined by least squares; segments weigh by length and contrast.
+Within each of two families, collinear segments are then joined across their gaps into one line
+(:func:`_joined`): a joint broken by every brick is one long, precise line.
 
 On a plane the families' directions are parallel, and (bricks, tiles, planks, weaves) the two
 main families are orthogonal. For a plane hypothesis, :class:`LineCost` back-projects every
@@ -33,6 +35,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.ndimage as ndi
+from scipy import sparse
+from scipy.sparse import csgraph
 
 from .. import validation
 from .geometry import jacobians
@@ -62,6 +66,8 @@ _CENTRAL = (10.0, 90.0)  # percentiles of the offsets across which the periods a
 _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on the plane renders:
 #                      wrong lone families reach 9.7, right ones and the test boards 12.9 up)
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
+_JOIN_PX = 1.5       # how far (fine pixels) a segment may lie off another's line to be joined to it
+_JOIN_ROWS = 256     # segments compared with all others at a time when joining
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
 _RIDGE_SIDE = 1024    # ... their centre lines at up to this side (a brick wall's head joints, 20-30
@@ -135,7 +141,8 @@ def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     these give more families. Step edges are the more precise on clean, high-contrast joints,
     and a board's grain (itself a bundle of fine ridges) would hide its seams' spacing; the
     joints of real walls and pavements are lines a few pixels wide, irregular and shaded,
-    whose two weak edges leave a family out.
+    whose two weak edges leave a family out. Two families come with their collinear segments
+    joined (:func:`_joined`); a lone one as found, for its spacing (:func:`spaced_horizon`).
 
     Parameters
     ----------
@@ -167,10 +174,64 @@ def photo_families(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
     """
     side = float(max(small.shape))
     edges = families(fine_segments(lum, small, k, mask), side)
-    if len(edges) == 2:
+    if len(edges) < 2:
+        centres = families(fine_segments(lum, small, k, mask, image, ridges=True), side)
+        edges = centres if len(centres) > len(edges) else edges
+    if len(edges) < 2:  # a lone family's spacing test (_SPACED_Z) was calibrated on pieces
         return edges
-    centres = families(fine_segments(lum, small, k, mask, image, ridges=True), side)
-    return centres if len(centres) > len(edges) else edges
+    return [f if f.dense else _joined(f) for f in edges]
+
+
+def _joined(family: Segments) -> Segments:
+    """The family's collinear segments joined across their gaps into one segment each: a joint
+    broken at every brick, every step of its width or every tuft of grass is one straight line,
+    and its direction is known to a pixel over its whole length rather than over each piece
+    (Burns et al.'s regions end where the gradient direction changes; this is the grouping of
+    segments into longer lines of their sec. VI, done within a family). Two segments join when
+    each one's midpoint lies within ``_JOIN_PX`` pixels of the other's line and the gap between
+    them is at most their summed length; a group is fitted by its weighted second moments (each
+    segment a uniform line of its length) and kept joined when it stays that thin."""
+    n = len(family)
+    if n < 2:
+        return family
+    m, d, length = family.m, family.d, family.length
+    tol = _JOIN_PX * family.pixel
+    pairs = []
+    for start in range(0, n, _JOIN_ROWS):  # row blocks: memory O(_JOIN_ROWS n), not O(n^2)
+        i = np.arange(start, min(start + _JOIN_ROWS, n))
+        delta = m[None, :, :] - m[i, None, :]  # m_j - m_i
+        across_i = np.abs(d[i, None, 0] * delta[..., 1] - d[i, None, 1] * delta[..., 0])
+        across_j = np.abs(d[None, :, 0] * delta[..., 1] - d[None, :, 1] * delta[..., 0])
+        reach = length[i, None] + length[None, :]
+        gap = np.abs((d[i, None, :] * delta).sum(axis=2)) - 0.5 * reach
+        a, b = np.nonzero((across_i <= tol) & (across_j <= tol) & (gap <= reach))
+        pairs.append((i[a], b))
+    rows, cols = (np.concatenate(x) for x in zip(*pairs, strict=True))
+    join = sparse.coo_matrix((np.ones(len(rows), bool), (rows, cols)), shape=(n, n))
+    _, group = csgraph.connected_components(join, directed=False)
+    weight = length if family.contrast is None else length * family.contrast
+    mass = np.bincount(group, weight)
+    centre = np.stack([np.bincount(group, weight * m[:, c]) for c in (0, 1)], axis=1)
+    centre /= mass[:, None]
+    off = m - centre[group]
+    second = [np.bincount(group, weight * (length ** 2 / 12.0 * d[:, a] * d[:, b]
+                                           + off[:, a] * off[:, b])) / mass
+              for a, b in ((0, 0), (0, 1), (1, 1))]
+    half = np.hypot((second[0] - second[2]) / 2, second[1])
+    major = (second[0] + second[2]) / 2 + half
+    minor = np.maximum((second[0] + second[2]) / 2 - half, 0.0)
+    theta = 0.5 * np.arctan2(2 * second[1], second[0] - second[2])
+    joined_d = np.stack([np.cos(theta), np.sin(theta)], axis=1)
+    joined_len = np.sqrt(12.0 * major)
+    thin = (np.sqrt(12.0 * minor) <= tol) & (np.bincount(group) > 1)
+    single = ~thin[group]
+    keep = np.flatnonzero(thin)
+    contrast = None if family.contrast is None else np.concatenate(
+        [family.contrast[single], (mass / np.bincount(group, length))[keep]])
+    return Segments(np.concatenate([m[single], centre[keep]]),
+                    np.concatenate([d[single], joined_d[keep]]),
+                    np.concatenate([length[single], joined_len[keep]]),
+                    family.dense, family.pixel, contrast)
 
 
 _EMPTY = Segments(np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0), contrast=np.zeros(0))
@@ -552,27 +613,43 @@ class LineCost:
     def angles(self, p: np.ndarray, v: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         """Plane directions (radians mod pi) of each family's segments under (p, v), and their
         sensitivity to the segments' image directions (d plane angle / d image angle)."""
+        return [(angle, gain) for angle, gain, _ in self._mapped(p, v)]
+
+    def _mapped(self, p: np.ndarray, v: np.ndarray):
+        """:meth:`angles` and the local Jacobians of each family's segments."""
         out = []
         for f in self.families:
             jac, g = jacobians(f.m, p, v)
             a = np.einsum("nij,nj->ni", jac, f.d)
             angle = np.arctan2(a[:, 1], a[:, 0])
             gain = np.linalg.det(jac) / np.maximum((a * a).sum(axis=1), 1e-300)
-            out.append((np.where(g > 0.05, angle, np.nan), np.where(g > 0.05, gain, 1.0)))
+            out.append((np.where(g > 0.05, angle, np.nan), np.where(g > 0.05, gain, 1.0), jac))
         return out
 
     def residuals(self, p: np.ndarray, v: np.ndarray) -> tuple[list[np.ndarray], float | None]:
         """Each family's image-angle residuals (radians) about its plane direction, and the
-        orthogonality residual (plane radians; None for one family)."""
+        orthogonality residual (plane radians; None for one family).
+
+        A residual is the image angle between the segment and the family's plane direction
+        mapped into the image at its midpoint (J^-1 u), exactly, not the plane angle divided by
+        the gain: to first order the same, but at a steep slant the linearisation shrank the
+        residuals of stray segments far from the family's direction, and a slant of 85 deg
+        near orthographic fitted a frontal photo's lines better than the frontal view."""
         means, out = [], []
-        for (angle, gain), sigma in zip(self.angles(p, v), self.sigma, strict=True):
+        for (angle, gain, jac), sigma, f in zip(self._mapped(p, v), self.sigma, self.families,
+                                                 strict=True):
             ok = np.isfinite(angle)
             weight = np.where(ok, 1.0 / (gain * sigma) ** 2, 0.0)
             doubled = np.where(ok, 2.0 * angle, 0.0)
             mean = 0.5 * math.atan2((np.sin(doubled) * weight).sum(),
                                     (np.cos(doubled) * weight).sum())
-            out.append(np.where(ok, ((angle - mean + math.pi / 2) % math.pi - math.pi / 2) / gain,
-                                math.pi / 2))
+            # J^-1 u by the adjugate (det J > 0 where g > 0): the image direction of u.
+            u = (math.cos(mean), math.sin(mean))
+            pred_x = jac[:, 1, 1] * u[0] - jac[:, 0, 1] * u[1]
+            pred_y = jac[:, 0, 0] * u[1] - jac[:, 1, 0] * u[0]
+            miss = np.arctan2(pred_x * f.d[:, 1] - pred_y * f.d[:, 0],
+                              pred_x * f.d[:, 0] + pred_y * f.d[:, 1])
+            out.append(np.where(ok, (miss + math.pi / 2) % math.pi - math.pi / 2, math.pi / 2))
             means.append(mean)
         ortho = None
         if len(means) == 2:
