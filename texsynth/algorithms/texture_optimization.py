@@ -69,6 +69,7 @@ from ..blocks.patchmatch import (
     patchmatch,
 )
 from ..blocks.period import texel_size
+from ..blocks.recut import recut_straight
 from ..blocks.region_shift import align_regions
 from ..registry import Method, Param, register
 
@@ -93,6 +94,9 @@ PROBE = 1 << 20
 MIN_LEVELS = 3
 #: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
 SHIFT = 3
+#: The shortest straight cut between copies re-cut, and how far its new path may wander
+#: (pixels at the level).
+RUN, BAND = 16, 8
 
 
 def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
@@ -158,6 +162,8 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(i / len(steps), (i + 1) / len(steps)),
                                    f"level {lv}, patch {p}")
+        positions = recut_straight(z, positions, RUN, BAND,
+                                   tick=lambda d=(i + 1) / len(steps): progress(d, "re-cutting"))
         if lv >= 1:  # the copies slide into phase while their layout is still coarse
             done, label = (i + 1) / len(steps), f"level {lv}: aligning copies"
             positions = align_regions(z, positions, SHIFT,
