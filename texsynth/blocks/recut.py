@@ -5,18 +5,25 @@ copies. Where two copies meet along a straight line of the output (a row or colu
 many pixels long), the line shows: it runs through bricks and setts, not along their joints.
 Each such run is re-cut as image quilting cuts an overlap (Efros & Freeman 2001, "Image quilting
 for texture synthesis and transfer", 2.1, the minimum error boundary cut): both copies are
-continued over a band either side of the line, the error of the two continuations is
-e = ||A - B||^2 per pixel, and the path of least cumulative error
-E(i, k) = c(i, k) + min(E(i-1, k-1), E(i-1, k), E(i-1, k+1)) through the band becomes the new
-boundary, its cost between neighbours the seam cost of graph-cut textures (Kwatra, Schoedl,
-Essa, Turk & Bobick 2003, 3.1): c(i, k) = e(i, k) + e(i, k + 1), the cut between band columns
-k and k + 1. Left of the path the left copy, right of it the right one: both stay verbatim
+continued over a band either side of the line, A left of it and B right of it, the error of the
+two continuations is e(i, o) = ||A(i, o) - B(i, o)||^2 for row i and band column o, and the path
+of least cumulative error through the band becomes the new boundary. Its costs are those of
+graph-cut textures (Kwatra, Schoedl, Essa, Turk & Bobick 2003, 3.1), ||A(s) - B(s)||^2 +
+||A(t) - B(t)||^2 for neighbours s, t taken from different copies: across the cut between band
+columns k and k + 1 in row i, c(i, k) = e(i, k) + e(i, k + 1); along a row where the cut moves
+from k' (row i - 1) to k (row i), e(i - 1, o) + e(i, o) for every column o between, so the
+path may run along a joint of the other direction (up a vertical joint, across a horizontal
+one, on up the next). The cumulative error is
+E(i, k) = c(i, k) + min_k' (E(i - 1, k') + |S_i(k) - S_i(k')|), S_i the running sum of those
+row costs. Left of the path the left copy, right of it the right one: both stay verbatim
 copies, only the line between them moves, to where they agree (a mortar or grass joint).
 
 Deviations, one line each:
 - only straight runs are re-cut (a boundary along one row or column line for at least ``run``
   pixels), columns first, then rows; the path starts and ends on the old line, so it joins the
   rest of the boundary;
+- the path may move any number of band columns between rows (Efros & Freeman: one), paying
+  the seam cost along the row as above (A and B continued from each row's own copies);
 - a copy grows over at most half of the other copy's width in that row (two runs facing the
   same copy never overlap) and never outside the exemplar;
 - the output wraps around its columns (the torus), a run does not continue across the last row.
@@ -27,6 +34,9 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["recut_straight", "straight_runs"]
+
+#: The error counted for a pixel where a copy would leave the exemplar (no path crosses it).
+BIG = 1e6
 
 
 def _carries_on(positions: np.ndarray) -> np.ndarray:
@@ -99,24 +109,28 @@ def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) ->
     cost = e[:, :, :-1] + e[:, :, 1:]  # c(i, k) = e(k) + e(k + 1), (n, T, 2 band - 1)
     allowed = (k <= reach_b[:, :, None]) & (-k <= reach_a[:, :, None])
     # A continued up to column k, B from k + 1: all of those inside the exemplar.
-    allowed &= (a[:, :, 1, None] + np.maximum(k, 0) < zw) & (b[:, :, 1, None] + np.minimum(k, 0) >= 0)
+    allowed &= (a[:, :, 1, None] + np.maximum(k, 0) < zw) \
+        & (b[:, :, 1, None] + np.minimum(k, 0) >= 0)
     ends = ~inside | (t[None, :] == 0) | (t[None, :] == (length - 1)[:, None])
     allowed &= ~ends[:, :, None] | (k == 0)
     cost = np.where(allowed, cost, np.inf)
-    # Efros & Freeman's cumulative error, all runs at once, and the path traced back.
+    # The cumulative error, all runs at once: from cut k' in row i - 1 to k in row i the path
+    # also runs along the row between them, where the rows above and below take different
+    # copies: Kwatra's cost there is e(i - 1, o) + e(i, o) for the columns o between.
+    g = np.minimum(e[:, :, :-1], BIG)  # columns o = k, (n, T, 2 band - 1)
+    g = np.cumsum(g[:, 1:] + g[:, :-1], axis=2)  # S(k): rows i - 1 and i, columns up to k
     total = cost[:, 0].copy()
     steps = np.zeros(cost.shape, np.int8)
     for r in range(1, rows_max):
-        options = np.stack([np.pad(total[:, :-1], ((0, 0), (1, 0)), constant_values=np.inf),
-                            total,
-                            np.pad(total[:, 1:], ((0, 0), (0, 1)), constant_values=np.inf)])
-        steps[:, r] = options.argmin(axis=0) - 1
-        total = cost[:, r] + options.min(axis=0)
+        along = np.abs(g[:, r - 1, :, None] - g[:, r - 1, None, :])  # |S(k) - S(k')|
+        options = total[:, None, :] + along
+        steps[:, r] = options.argmin(axis=2)
+        total = cost[:, r] + options.min(axis=2)
     kk = np.full(n, band - 1)  # the path ends on the old line (k = 0, index band - 1)
     path = np.empty((n, rows_max), np.int64)
     for r in range(rows_max - 1, -1, -1):
         path[:, r] = kk
-        kk = np.clip(kk + steps[np.arange(n), r, kk], 0, 2 * band - 2)  # (no path: any)
+        kk = steps[np.arange(n), r, kk]
     cut_at = k[path]  # (n, T)
     ok = np.isfinite(total[np.arange(n), band - 1])[:, None] & inside
     out = positions.copy()
