@@ -153,13 +153,16 @@ def test_a_large_photo_searched_on_a_lattice_still_keeps_rows_and_reaches_every_
 
 def test_setts_are_not_cut_along_straight_lines():
     """Where two copies meet along a straight line 16 px or longer, both sides stone: a sett
-    cut in two, or two setts run together without a joint (main before the re-cut: 67 px)."""
+    cut in two, or two setts run together without a joint (seeds 0-2: 237 pixels before
+    straight cuts were re-cut, 84 after)."""
     ex, stone = setts()
-    _, pos = texsynth.synthesize_positions(ex, 128, 128, method="texture_optimization", seed=0)
     cut_through = 0
-    for p, s in ((pos, stone), (pos.transpose(1, 0, 2)[:, :, ::-1], stone.T)):  # columns, rows
-        after = np.roll(p, -1, axis=1)
-        both = s[p[:, :, 0], p[:, :, 1]] & s[after[:, :, 0], after[:, :, 1]]
-        for j, first, last in straight_runs(p, 16):
-            cut_through += int(both[first:last + 1, j].sum())
-    assert cut_through < 25
+    for seed in range(3):
+        _, pos = texsynth.synthesize_positions(ex, 128, 128, method="texture_optimization",
+                                               seed=seed)
+        for p, s in ((pos, stone), (pos.transpose(1, 0, 2)[:, :, ::-1], stone.T)):  # | then -
+            after = np.roll(p, -1, axis=1)
+            both = s[p[:, :, 0], p[:, :, 1]] & s[after[:, :, 0], after[:, :, 1]]
+            for j, first, last in straight_runs(p, 16):
+                cut_through += int(both[first:last + 1, j].sum())
+    assert cut_through < 140

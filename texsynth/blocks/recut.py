@@ -37,6 +37,9 @@ __all__ = ["recut_straight", "straight_runs"]
 
 #: The error counted for a pixel where a copy would leave the exemplar (no path crosses it).
 BIG = 1e6
+#: Run rows (padded to a batch's longest run) handled at once: the band's pixels of both copies
+#: are gathered for each, 2 * band * C float32 twice.
+CELLS = 1 << 16
 
 
 def _carries_on(positions: np.ndarray) -> np.ndarray:
@@ -80,13 +83,28 @@ def _extent(carry: np.ndarray, rows: np.ndarray, cols: np.ndarray, step: int, mo
 
 
 def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) -> np.ndarray:
-    """One pass over the column boundaries (see the module notes); returns new positions."""
-    zh, zw = z.shape[:2]
-    h, w = positions.shape[:2]
+    """One pass over the column boundaries (see the module notes); returns new positions.
+    The runs are taken shortest first, in batches of at most ``CELLS`` run rows (padded)."""
     runs = straight_runs(positions, run)
     if len(runs) == 0:
         return positions
+    runs = runs[np.argsort(runs[:, 2] - runs[:, 1], kind="stable")]
     carry = _carries_on(positions)
+    out = positions.copy()
+    first = 0
+    while first < len(runs):
+        rows_max = runs[first:, 2] - runs[first:, 1] + 1  # ascending: a batch pads to its last
+        last = first + max(1, int(np.searchsorted(rows_max * np.arange(1, len(rows_max) + 1),
+                                                  CELLS, side="right")))
+        _recut_batch(z, positions, carry, runs[first:last], band, out)
+        first = last
+    return out
+
+
+def _recut_batch(z, positions, carry, runs, band, out):
+    """The runs' new cuts written into ``out``; everything read from ``positions``."""
+    zh, zw = z.shape[:2]
+    w = positions.shape[1]
     length = runs[:, 2] - runs[:, 1] + 1
     n, rows_max = len(runs), int(length.max())
     t = np.arange(rows_max)
@@ -117,7 +135,7 @@ def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) ->
     # The cumulative error, all runs at once: from cut k' in row i - 1 to k in row i the path
     # also runs along the row between them, where the rows above and below take different
     # copies: Kwatra's cost there is e(i - 1, o) + e(i, o) for the columns o between.
-    g = np.minimum(e[:, :, :-1], BIG)  # columns o = k, (n, T, 2 band - 1)
+    g = np.minimum(e[:, :, :-1], BIG).astype(np.float64)  # columns o = k, (n, T, 2 band - 1)
     g = np.cumsum(g[:, 1:] + g[:, :-1], axis=2)  # S(k): rows i - 1 and i, columns up to k
     total = cost[:, 0].copy()
     steps = np.zeros(cost.shape, np.int8)
@@ -133,7 +151,6 @@ def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) ->
         kk = steps[np.arange(n), r, kk]
     cut_at = k[path]  # (n, T)
     ok = np.isfinite(total[np.arange(n), band - 1])[:, None] & inside
-    out = positions.copy()
     for o in range(1, band):  # right of the line, A where o <= cut
         take = ok & (o <= cut_at)
         rr, cc = row[take], (col[take] + o) % w
@@ -142,7 +159,6 @@ def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) ->
         take = ok & (o > cut_at)
         rr, cc = row[take], (col[take] + o) % w
         out[rr, cc, 0], out[rr, cc, 1] = b[take][:, 0], b[take][:, 1] + o - 1
-    return out
 
 
 def recut_straight(z: np.ndarray, positions: np.ndarray, run: int = 32, band: int = 16,
