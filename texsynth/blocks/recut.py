@@ -82,9 +82,11 @@ def _extent(carry: np.ndarray, rows: np.ndarray, cols: np.ndarray, step: int, mo
     return length
 
 
-def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) -> np.ndarray:
+def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int,
+                   tick) -> np.ndarray:
     """One pass over the column boundaries (see the module notes); returns new positions.
-    The runs are taken shortest first, in batches of at most ``CELLS`` run rows (padded)."""
+    The runs are taken shortest first, in batches of at most ``CELLS`` run rows (padded),
+    ``tick()`` after each."""
     runs = straight_runs(positions, run)
     if len(runs) == 0:
         return positions
@@ -97,6 +99,7 @@ def _recut_columns(z: np.ndarray, positions: np.ndarray, run: int, band: int) ->
         last = first + max(1, int(np.searchsorted(rows_max * np.arange(1, len(rows_max) + 1),
                                                   CELLS, side="right")))
         _recut_batch(z, positions, carry, runs[first:last], band, out)
+        tick()
         first = last
     return out
 
@@ -172,7 +175,7 @@ def recut_straight(z: np.ndarray, positions: np.ndarray, run: int = 32, band: in
     positions : (H, W, 2) int exemplar row and column of each output pixel (the output wraps).
     run : the shortest straight boundary (pixels along one row or column line) re-cut.
     band : the farthest a new cut lies from the old line, pixels each way.
-    tick : called between the passes (so Esc is heard).
+    tick : called between batches of runs (so Esc is heard).
 
     References
     ----------
@@ -192,8 +195,7 @@ def recut_straight(z: np.ndarray, positions: np.ndarray, run: int = 32, band: in
     True
     """
     positions = np.asarray(positions)
-    out = _recut_columns(z, positions, run, band)
-    tick()
-    swapped = _recut_columns(z.transpose(1, 0, 2), out.transpose(1, 0, 2)[:, :, ::-1], run, band)
-    tick()
+    out = _recut_columns(z, positions, run, band, tick)
+    swapped = _recut_columns(z.transpose(1, 0, 2), out.transpose(1, 0, 2)[:, :, ::-1], run, band,
+                             tick)
     return np.ascontiguousarray(swapped[:, :, ::-1].transpose(1, 0, 2))
