@@ -46,7 +46,10 @@ at a coarse level and upsampled, a line of a few pixels becomes 2^level times lo
 finer passes keep it (each side's patches match their own copy). So after each pass, the
 straight runs are re-cut along the path of least seam error between the two copies
 (``texsynth.blocks.recut``: Efros & Freeman 2001, 2.1, with Kwatra et al. 2003, 3.1's seam
-cost), as quilting cuts an overlap.
+cost), as quilting cuts an overlap. Straight boundaries of 64 px or more, those whose seam error
+is above the photo's mean squared neighbour difference in brackets (``benchmarks.straight_cuts``,
+crop -> twice its size): brick wall 512: 21 (19) before, 5 (0) after; 1024: 51 (51), 1 (0);
+setts 1024: 5 (5), 0; gravel 512: 8 (8), 0. The re-cut takes about 1 % of the run.
 
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
