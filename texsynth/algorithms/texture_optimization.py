@@ -49,7 +49,7 @@ straight runs are re-cut along the path of least seam error between the two copi
 cost), as quilting cuts an overlap. Straight boundaries of 64 px or more, those whose seam error
 is above the photo's mean squared neighbour difference in brackets (``benchmarks.straight_cuts``,
 crop -> twice its size): brick wall 512: 21 (19) before, 5 (0) after; 1024: 51 (51), 1 (0);
-setts 1024: 5 (5), 0; gravel 512: 8 (8), 0. The re-cut takes about 1 % of the run.
+setts 1024: 5 (5), 0; gravel 512: 8 (8), 0; 1024: 26 (26), 0. The re-cut takes about 1 % of the run.
 
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
