@@ -27,6 +27,8 @@ Deviations from the section, one line each:
   prior over the lenses photos come from (``_LENS_MM``; :mod:`~texsynth.plane.combine`).
 - line families are sought ``_OUTLINE`` pixels or more inside the textured region: the plane's
   outline against a black world or sky is a line of the plane but of neither family.
+- a family's segment noise is widened by the design effect of its distinct lines
+  (:func:`~texsynth.plane.jackknife.line_inflation`) before the line noise is calibrated.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ import scipy.optimize as opt
 from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
+from .jackknife import line_inflation
 from .lines import LineCost, horizon_through, photo_families, spaced_horizon
 from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import (
@@ -414,7 +417,12 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         # families as a frontal view does, and its own grain hides the slant.
         lens = tuple(max(small.shape) / (mm / _DIAGONAL_35MM * math.hypot(*small.shape))
                      for mm in _LENS_MM[::-1])  # w = side / f, the longest lens first
-        both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
+        cost, side = LineCost(found), float(max(small.shape))
+        # Each family's noise as wide as its independent lines make it (a joint broken into
+        # pieces shares one error): the vanishing point of a few lines weighs as a few.
+        cost.sigma = [s * math.sqrt(line_inflation(f, side)) for s, f in zip(cost.sigma, found,
+                                                                           strict=True)]
+        both = combine(cost, side, fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k,
                        lens if anisotropy <= _ANISOTROPY_OK else None)
