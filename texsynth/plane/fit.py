@@ -25,6 +25,10 @@ Deviations from the section, one line each:
   vanishing line out (:func:`_spacing_conflict`);
 - with the focal length unknown, two line families that stay parallel read as frontal under a
   prior over the lenses photos come from (``_LENS_MM``; :mod:`~texsynth.plane.combine`).
+- line families are sought ``_OUTLINE`` pixels or more inside the textured region: the plane's
+  outline against a black world or sky is a line of the plane but of neither family.
+- a family's segment noise is widened by the design effect of its distinct lines
+  (:func:`~texsynth.plane.jackknife.line_inflation`) before the line noise is calibrated.
 """
 
 from __future__ import annotations
@@ -33,11 +37,13 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+import scipy.ndimage as ndi
 import scipy.optimize as opt
 
 from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
+from .jackknife import line_inflation
 from .lines import LineCost, horizon_through, photo_families, spaced_horizon
 from .search import evaluate, hessian, minimize, minimize_then
 from .spectra import (
@@ -124,6 +130,7 @@ _SPACING_CONFLICT = 25.0  # noise units of homogeneity a family's spacing may co
 _MIN_ACROSS = 64     # analysis pixels across the shorter side: the 64 x 64 minimum's windows
 _LENS_MM = (13.0, 200.0)  # the lenses photos come from, 35 mm equivalent (phones to telephoto)
 _DIAGONAL_35MM = math.hypot(36.0, 24.0)  # the 35 mm frame's diagonal the equivalent refers to
+_OUTLINE = 4         # analysis pixels between a segment and an untextured region
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -375,7 +382,11 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                 else _fit_unknown_focal(crit, fine, side, v_spaced)
 
         fit = texture_fit()
-        found = photo_families(lum, small, k, mask, image)
+        # Lines only away from untextured regions: the plane's outline against a black world or
+        # sky is a line of the plane but of neither family, and long and strong enough to make
+        # the second one.
+        inner = ndi.binary_erosion(mask, iterations=_OUTLINE, border_value=1)
+        found = photo_families(lum, small, k, inner, image)
         spaced = None
         if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is
@@ -406,7 +417,12 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         # families as a frontal view does, and its own grain hides the slant.
         lens = tuple(max(small.shape) / (mm / _DIAGONAL_35MM * math.hypot(*small.shape))
                      for mm in _LENS_MM[::-1])  # w = side / f, the longest lens first
-        both = combine(LineCost(found), float(max(small.shape)), fit.p, prior,
+        cost, side = LineCost(found), float(max(small.shape))
+        # Each family's noise as wide as its independent lines make it (a joint broken into
+        # pieces shares one error): the vanishing point of a few lines weighs as a few.
+        cost.sigma = [s * math.sqrt(line_inflation(f, side)) for s, f in zip(cost.sigma, found,
+                                                                           strict=True)]
+        both = combine(cost, side, fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k,
                        lens if anisotropy <= _ANISOTROPY_OK else None)

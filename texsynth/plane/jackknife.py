@@ -1,0 +1,110 @@
+"""How many independent lines a family of segments holds: the noise of its vanishing point.
+
+A joint found as segments (:func:`~texsynth.plane.lines.segments`) is often broken into several
+pieces along one line, and its own irregularity (a mortar joint that wanders, a row of setts) is
+shared by every piece: the pieces' direction errors are not independent, and a vanishing point
+fitted to them is less certain than their number says. The delete-a-group jackknife (Efron &
+Tibshirani 1993, ch. 11; the groups are the lines, as the clusters of a cluster sample, Kish
+1965, sec. 5.4) measures the vanishing point's variance with the lines as the independent
+units; its ratio to the delete-one-segment jackknife of the same fit is the design effect by
+which the segments' noise variance is widened (:class:`~texsynth.plane.lines.LineCost`).
+Deviation: the vanishing point is the weighted least-squares fit of
+:func:`~texsynth.plane.lines.vanishing_point`, summarised by its direction from the image
+centre and its inverse distance; the larger of the two ratios is taken.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .lines import Segments, _lines
+
+__all__ = ["line_inflation"]
+
+_SAME_LINE = 3.0     # pixels: segments whose lines through the vanishing point pass this close
+#                      to each other at the image centre are one line (a joint's two sides, its
+#                      broken pieces)
+_MIN_LINES = 3       # fewer lines leave the vanishing point's variance unmeasured
+_UNMEASURED = 1e4    # ... and then its noise is widened by this much (its direction still counts)
+
+
+def _lines_of(family: Segments, vp: np.ndarray, side: float) -> np.ndarray:
+    """Labels of the distinct lines: segments sorted by where their line through the vanishing
+    point ``vp`` (homogeneous, pixels / ``side``) passes the image centre, split at gaps over
+    ``_SAME_LINE`` pixels."""
+    points = np.concatenate([family.m / side, np.ones((len(family), 1))], axis=1)
+    through = np.cross(np.broadcast_to(vp, points.shape), points)
+    through /= np.linalg.norm(through[:, :2], axis=1, keepdims=True)
+    through *= np.sign(through[:, :2] @ through[int(np.argmax(family.weight)), :2])[:, None]
+    offset = through[:, 2] * side
+    order = np.argsort(offset)
+    labels = np.empty(len(family), np.intp)
+    labels[order] = np.concatenate([[0], np.cumsum(np.diff(offset[order]) > _SAME_LINE)])
+    return labels
+
+
+def line_inflation(family: Segments, side: float) -> float:
+    """The factor (>= 1) by which the segments' direction-noise variance is widened so that the
+    family's vanishing point is as uncertain as its independent lines make it.
+
+    Parameters
+    ----------
+    family : Segments
+        One family (:func:`~texsynth.plane.lines.families`), centred y-up analysis pixels.
+    side : float
+        The analysis image's longer side (pixels), the unit of the homogeneous fits.
+
+    Returns
+    -------
+    float
+        The delete-one-line over the delete-one-segment jackknife variance of the vanishing
+        point (the larger over its direction and inverse distance), at least 1;
+        ``_UNMEASURED`` when the family holds fewer than ``_MIN_LINES`` distinct lines.
+
+    References
+    ----------
+    Efron & Tibshirani 1993, "An Introduction to the Bootstrap", ch. 11 (the jackknife); Kish
+    1965, "Survey Sampling", sec. 5.4 (the design effect of a cluster sample).
+
+    Examples
+    --------
+    Six lines towards a vanishing point, each found as four pieces that share its error:
+
+    >>> import numpy as np
+    >>> from texsynth.plane.lines import Segments
+    >>> rng = np.random.default_rng(0)
+    >>> vp = np.array([0.0, 900.0])
+    >>> m, d = [], []
+    >>> for x in np.linspace(-120, 120, 6):
+    ...     along = (vp - (x, 0.0)) / np.linalg.norm(vp - (x, 0.0))
+    ...     error = rng.normal(0.0, 0.02)  # radians, shared by the line's pieces
+    ...     for t in (-90.0, -30.0, 30.0, 90.0):
+    ...         a = np.arctan2(along[1], along[0]) + error
+    ...         m.append((x, 0.0) + t * along)
+    ...         d.append((np.cos(a), np.sin(a)))
+    >>> family = Segments(np.array(m), np.array(d), np.full(24, 40.0))
+    >>> bool(line_inflation(family, 320.0) > 2.0)
+    True
+    """
+    lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
+    vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
+    labels = _lines_of(family, vp, side)
+    if labels.max() + 1 < _MIN_LINES:
+        return _UNMEASURED
+
+    def summary(keep):  # direction from the centre and inverse distance (1 / side units)
+        x = np.linalg.svd(lines[keep], full_matrices=False)[2][-1]
+        x = x * np.sign(x @ vp)
+        return np.array([math.atan2(x[1], x[0]), x[2] / np.linalg.norm(x[:2])])
+
+    full = summary(np.ones(len(family), bool))
+
+    def jackknife(groups):
+        d = np.array([summary(groups != g) - full for g in np.unique(groups)])
+        d[:, 0] = (d[:, 0] + math.pi) % (2 * math.pi) - math.pi
+        return (len(d) - 1) / len(d) * (d * d).sum(axis=0)
+
+    ratio = jackknife(labels) / np.maximum(jackknife(np.arange(len(family))), 1e-30)
+    return float(max(1.0, ratio.max()))
