@@ -29,10 +29,12 @@ def test_the_planes_outline_makes_no_family():
     centre = (photo.shape[0] - 1) / 2
     photo[(x - centre) + 0.5 * (centre - y) > 40] = 0.0  # beyond the plane's edge: black
     photo = np.clip(photo, 0.0, 1.0)
-    for given in (None, focal):
+    # Bounds: with the corner the view reads 1.6 deg off (focal known) and 3.3 (unknown), as
+    # without it (1.1 and 3.2); with the outline as a family it read 17.6 (unknown).
+    for given, bound in ((None, 5.0), (focal, 3.0)):
         result = estimate_plane(photo, focal_px=given)
         assert result.line_families == 2, given
-        assert normal_error((slant, tilt), (result.slant, result.tilt)) < 3.0, given
+        assert normal_error((slant, tilt), (result.slant, result.tilt)) < bound, given
 
 
 def _pieces(shared: bool, seed: int, lines: int = 6, pieces: int = 4):
