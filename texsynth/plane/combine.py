@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .lines import _ORTHOGONAL_DEG, LineCost, Segments, robust, vanishing_point
+from .lines import ORTHOGONAL_DEG, LineCost, Segments, robust, vanishing_point
 from .search import hessian, minimize
 
 __all__ = ["Combined", "combine", "orthogonality_chi2", "st_covariance"]
@@ -145,7 +145,7 @@ def _frontal_under_prior(cost: LineCost, total, lens: tuple[float, float], free:
     b = (1.0 - r) / math.log(1.0 / r)
     _, miss = cost.residuals(b * p_max, p_max * w_least / side)  # at the plane stated
     if orthogonality_chi2(free, fit.fun) > _ORTHOGONAL_Z ** 2 \
-            or abs(miss) > _ORTHOGONAL_Z * math.radians(_ORTHOGONAL_DEG):
+            or abs(miss) > _ORTHOGONAL_Z * math.radians(ORTHOGONAL_DEG):
         cost.orthogonal = False
         return None
     cov_p = _inverse(hessian(held, fit.x, np.full(2, 1e-3)))

@@ -59,7 +59,7 @@ _DISTINCT_DEG = 30.0  # least image angle of the second family to the first's va
 _MIN_FAMILY = 6       # segments a family needs
 _MIN_SUPPORT = 0.75   # total length of a family, in image sides
 _OVER_CHANCE = 3.0    # ... and this many times what random directions would give
-_ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
+ORTHOGONAL_DEG = 1.0  # how far (one sigma) the texture's two families may be from orthogonal
 _G_SPACED = 0.05     # depth ratio segments must keep under a horizon hypothesis
 _CYCLES = np.arange(3.0, 60.0, 0.05)  # periods across the family tested for equal spacing
 _CENTRAL = (10.0, 90.0)  # percentiles of the offsets across which the periods are counted
@@ -663,7 +663,7 @@ class LineCost:
         chi2 = sum(float(robust((r / s) ** 2 / self.scale).sum())
                    for r, s in zip(residual, self.sigma, strict=True))
         if ortho is not None and self.orthogonal:
-            chi2 += float(robust((ortho / math.radians(_ORTHOGONAL_DEG)) ** 2))
+            chi2 += float(robust((ortho / math.radians(ORTHOGONAL_DEG)) ** 2))
         return chi2
 
     def calibrate(self, p: np.ndarray, v: np.ndarray) -> None:
