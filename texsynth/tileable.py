@@ -610,6 +610,6 @@ def _correct(out, given, a, scale, positions, band, report=None) -> np.ndarray:
         return out
     result = given.copy()
     # Dividing by a power of two is exact (in float64, where 2^-k may be below float32's range).
-    result[rows] = (out[rows] / scale).astype(np.float32)
-    result[:, cols] = (out[:, cols] / scale).astype(np.float32)
+    result[rows] = (out[rows].astype(np.float64) / scale).astype(np.float32)
+    result[:, cols] = (out[:, cols].astype(np.float64) / scale).astype(np.float32)
     return result
