@@ -106,8 +106,8 @@ def run(ctx) -> str:
         done.append((tex, ex, comp))
         fit = ctx.measure(lambda ex=ex: cooccurrence.fit(ex, seed=SEED), repeats=1)
         model = fit.result
-        single = ctx.measure(lambda m=model: cooccurrence.synthesize(m, out_side, out_side, seed=SEED),
-                             repeats=1)
+        single = ctx.measure(
+            lambda m=model: cooccurrence.synthesize(m, out_side, out_side, seed=SEED), repeats=1)
         rows.append([ex, label_colours(result.labels), label_colours(result.output_labels),
                      result.image, single.result])
         q_c, q_s = ctx.quality(ex, result.image), ctx.quality(ex, single.result)
