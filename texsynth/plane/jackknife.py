@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from .lines import Segments, _lines
+from .lines import Segments, weighted_lines
 
 __all__ = ["line_inflation"]
 
@@ -88,7 +88,7 @@ def line_inflation(family: Segments, side: float) -> float:
     >>> bool(line_inflation(family, 320.0) > 2.0)
     True
     """
-    lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
+    lines = weighted_lines(family, side)
     vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
     labels = _lines_of(family, vp, side)
     if labels.max() + 1 < _MIN_LINES:

@@ -462,6 +462,21 @@ def _lines(s: Segments, scale: float) -> np.ndarray:
     return lines / np.linalg.norm(lines[:, :2], axis=1, keepdims=True)
 
 
+def weighted_lines(family: Segments, side: float) -> np.ndarray:
+    """The family's homogeneous lines (N, 3), in pixels / ``side``, each times the square root
+    of its segment's weight: the rows whose least singular vector is the weighted
+    least-squares vanishing point (:func:`vanishing_point`).
+
+    Examples
+    --------
+    >>> family = Segments(np.array([[0.0, 10.0], [0.0, -10.0]]), np.array([[1.0, 0.0]] * 2),
+    ...                   np.array([4.0, 16.0]))  # two horizontal lines, y = 10 and y = -10
+    >>> np.round(weighted_lines(family, 20.0), 3).tolist()  # weights 4 and 16: times 2 and 4
+    [[0.0, 2.0, -1.0], [0.0, 4.0, 2.0]]
+    """
+    return _lines(family, side) * np.sqrt(family.weight)[:, None]
+
+
 def _vanishing_point(s: Segments, scale: float, rng) -> tuple[np.ndarray, np.ndarray] | None:
     """The best-supported vanishing point (unit 3-vector) and its inliers, or None."""
     if len(s) < _MIN_FAMILY:
@@ -531,8 +546,7 @@ def families(s: Segments, side: float, seed: int = 0) -> list[Segments]:
 def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     """The family's vanishing point in centred y-up pixels, None when it is at infinity (the
     family's lines are parallel in the image within their noise)."""
-    lines = _lines(family, side) * np.sqrt(family.weight)[:, None]
-    vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
+    vp = np.linalg.svd(weighted_lines(family, side), full_matrices=False)[2][-1]
     spread = float(np.max(np.linalg.norm(family.m, axis=1))) / side + 1.0
     if abs(vp[2]) * 1e3 < spread * np.linalg.norm(vp[:2]):  # farther than 1000 image sides
         return None
@@ -543,8 +557,7 @@ def horizon_through(family: Segments, side: float) -> np.ndarray:
     """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
     a . v = c (a unit vector): every plane whose lines of this direction appear as the family
     has its horizon v . x = 1 through the vanishing point x (a . v = 0 when x is at infinity)."""
-    vp = np.linalg.svd(_lines(family, side) * np.sqrt(family.weight)[:, None],
-                       full_matrices=False)[2][-1]
+    vp = np.linalg.svd(weighted_lines(family, side), full_matrices=False)[2][-1]
     norm = float(np.linalg.norm(vp[:2]))
     return np.append(vp[:2] / norm, vp[2] / (norm * side))
 
