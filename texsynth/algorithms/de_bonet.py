@@ -142,6 +142,7 @@ def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientation
             n = _per_channel(j, top, orientations)
             for i, value in enumerate((bands[j] if 0 < j < top else []) + [level]):
                 features[j][:, :, c * n + i] = value
+        del levels, bands                # freed before the next channel's transforms
         if tick is not None:
             tick()
     return features
