@@ -126,7 +126,8 @@ def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientation
     the coarsest), then its Laplacian level (``P_l``, or ``G_S`` at the coarsest). The oriented
     bands are the image's steerable pyramid's, analysed from the Laplacian's G_1 (a pyramid of
     the levels from 1 down, :class:`SteerablePyramid`'s ``full``): the full-size image is
-    transformed once, for the Laplacian. ``tick()``, if given, after each channel.
+    transformed once, for the Laplacian. ``tick()``, if given, after each channel's Laplacian
+    and steerable analyses.
     """
     top = laplacian.scales
     steerable = (SteerablePyramid(laplacian.level_shapes[1], top - 1, orientations,
@@ -134,15 +135,22 @@ def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientation
     channels = image.shape[2]
     features = [np.empty((*shape, channels * _per_channel(j, top, orientations)), np.float32)
                 for j, shape in enumerate(laplacian.level_shapes)]
-    for c in range(channels):
+
+    def laplacian_levels(c: int) -> np.ndarray | None:
+        """Channel c's Laplacian levels into ``features``; its G_1, for the steerable bands."""
         levels = laplacian.analyze(None, spectrum=periodic_spectrum(image[:, :, c]))
-        bands = [[], *steerable.analyze(laplacian.synthesize(levels, 1)).bands] \
-            if steerable else []
         for j, level in enumerate(levels):
+            features[j][:, :, (c + 1) * _per_channel(j, top, orientations) - 1] = level
+        return laplacian.synthesize(levels, 1) if steerable else None
+
+    # the full-size transforms, channels side by side on the cores (the steerable pyramid
+    # reuses its buffers: its analyses run one after the other, each on the cores)
+    coarse = run(laplacian_levels, range(channels), tick)
+    for c, g1 in enumerate(coarse if steerable else ()):
+        for j, level_bands in enumerate(steerable.analyze(g1).bands, start=1):
             n = _per_channel(j, top, orientations)
-            for i, value in enumerate((bands[j] if 0 < j < top else []) + [level]):
-                features[j][:, :, c * n + i] = value
-        del levels, bands                # freed before the next channel's transforms
+            for i, band in enumerate(level_bands):
+                features[j][:, :, c * n + i] = band
         if tick is not None:
             tick()
     return features
