@@ -455,6 +455,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
                 src[rows] = sampler.draw(queries, rng)
             step(rows[-1] / (h * w), f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
+        del space, sampler               # the next level's table is built without them
     return sources
 
 
@@ -532,19 +533,24 @@ def _indexed(shape, levels: int) -> list[int]:
 
 
 def _memory(shape, width, height, params):
-    """The exemplar's level values (and their columns while stacked), then the larger of two
-    phases. Sampling the finest level: per exemplar pixel, the projected parent structures of
-    every location (float64) and their ancestors' upsampled columns; per indexed location, its
-    kd-tree; per output pixel, the int32 source maps. Collapsing: per output pixel, the output,
-    the source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
-    batches."""
+    """The exemplar's level values, held throughout (per exemplar pixel 4 C bytes at the finest
+    level, 4 C (K + 1) / 4 per coarser level of a quarter the size: about 4 C (1 + (K + 1) / 3)),
+    and the largest of three phases. Analysing: two channels' transforms side by side, 38 bytes
+    per exemplar pixel (measured). Sampling the finest level: per exemplar pixel its projected
+    parent structure (float32) and its ancestors' (8 bytes); per indexed location, its kd-tree;
+    per output pixel, the int32 source maps. Collapsing: per output pixel, the output, the
+    source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
+    batches. On the 12 MP photo and its 1024 crop to 2048^2: 0.94-0.98 and 0.85-0.96 of the
+    measured growth of resident memory."""
     k, c = params["orientations"], shape[2]
     exemplar = shape[0] * shape[1]
+    held = 4 * c * (1 + (k + 1) / 3) * exemplar
     sources = 4 * 4 / 3 * width * height
     tree = min(exemplar, 2 * TREE_POINTS)
-    sampling = (8 * MAX_DIMS + 42) * exemplar + 80 * tree + sources
+    analysing = 38 * exemplar
+    sampling = (4 * MAX_DIMS + 8) * exemplar + 80 * tree + sources
     collapsing = (4 * c + 4 * 4 / 3 + 16) * width * height + sources
-    return 4 * c * (k + 2) * exemplar + max(sampling, collapsing) + (24 << 20)
+    return held + max(analysing, sampling, collapsing) + (24 << 20)
 
 
 def _cost(shape, width, height, params):
@@ -554,7 +560,9 @@ def _cost(shape, width, height, params):
     pyramid's locations); per exemplar pixel, its periodic component, Laplacian pyramid and
     projected parent structures; per indexed location, the tree's build. Fitted on a 1024^2
     crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at factor 0.36; the query term had
-    predicted under half of the crop's time)."""
+    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, the
+    12 MP photo's CPU time beyond its crop's (6.4 -> 4.7 s, medians of 2 runs on a loaded
+    machine) once its finest level's table was made by slices (not refitted on a quiet one)."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
@@ -564,7 +572,7 @@ def _cost(shape, width, height, params):
         locations += 0.75 * n * (0.56 if n > COHERENT_PIXELS else 1.0)
     levels = pyramid_depth(shape, width, height, params["scales"])
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
-            + 4.9e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
+            + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
 
 
 METHOD = register(Method(
