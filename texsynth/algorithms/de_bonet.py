@@ -28,6 +28,14 @@ answered in batches by radius-bounded k-nearest queries, uniform among all hits 
 and a location sums their bilinear readings (:class:`ParentSpace`): it gathers a few numbers per
 ancestor instead of its whole parent structure.
 
+Large photos (issue 25: a 12 MP photo to 2048^2): every pixel of the finest level may be
+copied, so it is analysed whole, but nothing of the work is held at its size beyond its values
+and one float32 table of projected parent structures (24 bytes a pixel): the table is upsampled
+from the ancestors by strided slices, one per phase, in blocks of rows; the channels' full-size
+transforms run side by side; each level's table and tree are freed before the next's are built.
+12 MP to 2048^2: peak growth 1654 -> 950 MiB (the crop's: 227 -> 212), CPU beyond the crop's
+6.1 -> 5.3 s, the output bit for bit the same.
+
 Deviations, one line each:
 - a coarser level is read at x's own position (bilinear, on the torus), not at the replicated
   pixel x // 2: the four children of a parent then differ, and ``threshold`` 0 copies the
