@@ -33,8 +33,9 @@ copied, so it is analysed whole, but nothing of the work is held at its size bey
 and one float32 table of projected parent structures (24 bytes a pixel): the table is upsampled
 from the ancestors by strided slices, one per phase, in blocks of rows; the channels' full-size
 transforms run side by side; each level's table and tree are freed before the next's are built.
-12 MP to 2048^2: peak growth 1654 -> 950 MiB (the crop's: 227 -> 212), CPU beyond the crop's
-6.1 -> 5.3 s, the output bit for bit the same.
+12 MP to 2048^2 (medians of 3 runs each, old and new alternating, on a loaded machine): peak
+growth of resident memory 1654 -> 950 MiB (the crop's: 227 -> 216), CPU time 1.48 -> 1.33 of
+the crop's (8.6 -> 5.8 s beyond it), the output bit for bit the same.
 
 Deviations, one line each:
 - a coarser level is read at x's own position (bilinear, on the torus), not at the replicated
@@ -548,8 +549,8 @@ def _memory(shape, width, height, params):
     parent structure (float32) and its ancestors' (8 bytes); per indexed location, its kd-tree;
     per output pixel, the int32 source maps. Collapsing: per output pixel, the output, the
     source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
-    batches. On the 12 MP photo and its 1024 crop to 2048^2: 0.94-0.98 and 0.85-0.96 of the
-    measured growth of resident memory."""
+    batches. On the 12 MP photo and its 1024 crop to 2048^2: 0.95-0.99 and 0.98-1.00 of the
+    measured growth of resident memory (3 runs each)."""
     k, c = params["orientations"], shape[2]
     exemplar = shape[0] * shape[1]
     held = 4 * c * (1 + (k + 1) / 3) * exemplar
@@ -568,9 +569,10 @@ def _cost(shape, width, height, params):
     pyramid's locations); per exemplar pixel, its periodic component, Laplacian pyramid and
     projected parent structures; per indexed location, the tree's build. Fitted on a 1024^2
     crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at factor 0.36; the query term had
-    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, the
-    12 MP photo's CPU time beyond its crop's (6.4 -> 4.7 s, medians of 2 runs on a loaded
-    machine) once its finest level's table was made by slices (not refitted on a quiet one)."""
+    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, as the
+    12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then 8.6 -> 5.8 s, medians of
+    alternating runs on a loaded machine) once its finest level's table was made by slices:
+    not refitted on a quiet machine."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
