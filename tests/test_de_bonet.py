@@ -18,7 +18,7 @@ from texsynth.algorithms.de_bonet import (
 )
 from texsynth.blocks.periodic import periodic_component
 from texsynth.blocks.pyramid import LaplacianPyramid
-from texsynth.metrics import seam_ratio
+from texsynth.metrics import gradient_ratio, seam_ratio
 from texsynth.progress import Progress
 
 
@@ -230,3 +230,53 @@ def test_an_exemplar_larger_than_the_output_still_tiles(monkeypatch):
     exemplar = _photo(size=200)
     out = texsynth.synthesize(exemplar, 72, 72, method="de_bonet", seed=1)
     assert 0.8 < seam_ratio(out) < 1.25
+
+
+@pytest.mark.parametrize("shape, level, depth", [((37, 53), 0, 3), ((30, 21), 1, 2),
+                                                 ((61, 45), 0, 4)])
+def test_the_exemplar_table_is_the_query_path_bit_for_bit(monkeypatch, shape, level, depth):
+    # blocks of 5 rows start between the rows of every ancestor (2^k does not divide 5): the
+    # table a level's draws compare with must be what a query of the same locations reads
+    monkeypatch.setattr(de_bonet_module, "EXEMPLAR_ROWS", 5)
+    rng = np.random.default_rng(7)
+    features, (h, w) = [], shape
+    for _ in range(level + depth + 1):
+        features.append(rng.standard_normal((h, w, 3)).astype(np.float32))
+        h, w = (h + 1) // 2, (w + 1) // 2
+    scale = dict.fromkeys(range(len(features)), 0.7)
+    own = features[level].shape[:2]
+    space = ParentSpace(features, level, depth, scale, own)
+    identity = [np.arange(f.shape[0] * f.shape[1]).reshape(f.shape[:2]) for f in features]
+    table = space.exemplar(own)
+    assert table.shape == (own[0] * own[1], space.dims)
+    np.testing.assert_array_equal(table, space(identity, own, np.arange(table.shape[0])))
+
+
+def _grain(shape, seed=0):
+    """A stationary texture: wrapped, smoothed noise in three correlated channels."""
+    rng = np.random.default_rng(seed)
+    y = gaussian_filter(rng.random(shape), 1.5, mode="wrap")
+    y = (y - y.min()) / np.ptp(y)
+    return np.stack([y, 0.8 * y + 0.1, 0.6 * y + 0.2], axis=2).astype(np.float32)
+
+
+def test_a_large_photo_gives_what_its_crop_gives(monkeypatch):
+    # a photo larger than the output (as a 12 MP photo is for 2048^2; its finest level is
+    # indexed on tiles here, the large photo's path) and its crop: both outputs tile, repeat
+    # with the seed, keep the photo's contrast and are as sharp as each other (at this small
+    # size both are 8-15% rougher than the photo: 1.08 from the crop, 1.15 from the photo)
+    monkeypatch.setattr(de_bonet_module, "TREE_POINTS", 16000)
+    monkeypatch.setattr(de_bonet_module, "TILE", 16)
+    photo = _grain((240, 320))
+    crop = photo[56:184, 96:224]
+    sharpness = []
+    for exemplar in (photo, crop):
+        out = texsynth.synthesize(exemplar, 128, 128, method="de_bonet", seed=2)
+        np.testing.assert_array_equal(
+            out, texsynth.synthesize(exemplar, 128, 128, method="de_bonet", seed=2))
+        assert out.shape == (128, 128, 3)
+        assert 0.8 < seam_ratio(out) < 1.25
+        assert 0.9 < out[:, :, 0].std() / photo[:, :, 0].std() < 1.1
+        sharpness.append(gradient_ratio(photo, out))
+    assert 0.95 < min(sharpness) and max(sharpness) < 1.2
+    assert 0.9 < sharpness[0] / sharpness[1] < 1.1

@@ -28,6 +28,15 @@ answered in batches by radius-bounded k-nearest queries, uniform among all hits 
 and a location sums their bilinear readings (:class:`ParentSpace`): it gathers a few numbers per
 ancestor instead of its whole parent structure.
 
+Large photos (issue 25: a 12 MP photo to 2048^2): every pixel of the finest level may be
+copied, so it is analysed whole, but nothing of the work is held at its size beyond its values
+and one float32 table of projected parent structures (24 bytes a pixel): the table is upsampled
+from the ancestors by strided slices, one per phase, in blocks of rows; the channels' full-size
+transforms run side by side; each level's table and tree are freed before the next's are built.
+12 MP to 2048^2 (medians of 3 runs each, old and new alternating, on a loaded machine): peak
+growth of resident memory 1654 -> 950 MiB (the crop's: 227 -> 216), CPU time 1.48 -> 1.33 of
+the crop's (8.6 -> 5.8 s beyond it), the output bit for bit the same.
+
 Deviations, one line each:
 - a coarser level is read at x's own position (bilinear, on the torus), not at the replicated
   pixel x // 2: the four children of a parent then differ, and ``threshold`` 0 copies the
@@ -126,21 +135,34 @@ def pyramid_features(image: np.ndarray, laplacian: LaplacianPyramid, orientation
     the coarsest), then its Laplacian level (``P_l``, or ``G_S`` at the coarsest). The oriented
     bands are the image's steerable pyramid's, analysed from the Laplacian's G_1 (a pyramid of
     the levels from 1 down, :class:`SteerablePyramid`'s ``full``): the full-size image is
-    transformed once, for the Laplacian. ``tick()``, if given, after each channel.
+    transformed once, for the Laplacian. ``tick()``, if given, after each channel's Laplacian
+    and steerable analyses.
     """
     top = laplacian.scales
     steerable = (SteerablePyramid(laplacian.level_shapes[1], top - 1, orientations,
                                   full=laplacian.shape) if top > 1 else None)
-    columns = [[] for _ in range(top + 1)]
-    for c in range(image.shape[2]):
+    channels = image.shape[2]
+    features = [np.empty((*shape, channels * _per_channel(j, top, orientations)), np.float32)
+                for j, shape in enumerate(laplacian.level_shapes)]
+
+    def laplacian_levels(c: int) -> np.ndarray | None:
+        """Channel c's Laplacian levels into ``features``; its G_1, for the steerable bands."""
         levels = laplacian.analyze(None, spectrum=periodic_spectrum(image[:, :, c]))
-        bands = [[], *steerable.analyze(laplacian.synthesize(levels, 1)).bands] \
-            if steerable else []
         for j, level in enumerate(levels):
-            columns[j] += (bands[j] if 0 < j < top else []) + [level]
+            features[j][:, :, (c + 1) * _per_channel(j, top, orientations) - 1] = level
+        return laplacian.synthesize(levels, 1) if steerable else None
+
+    # the full-size transforms, channels side by side on the cores (the steerable pyramid
+    # reuses its buffers: its analyses run one after the other, each on the cores)
+    coarse = run(laplacian_levels, range(channels), tick)
+    for c, g1 in enumerate(coarse if steerable else ()):
+        for j, level_bands in enumerate(steerable.analyze(g1).bands, start=1):
+            n = _per_channel(j, top, orientations)
+            for i, band in enumerate(level_bands):
+                features[j][:, :, c * n + i] = band
         if tick is not None:
             tick()
-    return [np.stack(cols, axis=2) for cols in columns]
+    return features
 
 
 def channel_levels(features, sources, channel, orientations) -> list[np.ndarray]:
@@ -217,37 +239,37 @@ class ParentSpace:
             start += flat[a].shape[1]
 
     def exemplar(self, shape, progress=None) -> np.ndarray:
-        """Projected parent structures (float64, (h * w, dims)) of every location of the
+        """Projected parent structures (float32, (h * w, dims)) of every location of the
         exemplar's level of ``shape``: :meth:`__call__` with the identity sources, computed as
         separable bilinear upsamplings of the projected ancestors (the same arithmetic, bit for
         bit: columns first, then rows), in blocks of rows on the cores; ``progress()`` after
-        each block."""
+        each block.
+
+        Locations of the same phase (position modulo 2^k) share their interpolation weight and
+        read consecutive ancestor samples, so each phase is one strided slice, not a gather;
+        a block upsamples only the ancestor rows it reads (on a 12 MP photo's finest level, no
+        ancestor is held at the level's width)."""
         h, w = shape
-        out = np.empty((h * w, self.dims))
-        columns = {}
-        for a in self.ancestors:
-            k = a - self.level
-            p = self.projected[a].reshape(-1, -(-w >> k), self.dims)
-            x = np.arange(w)
-            x0, tx = x >> k, ((x & ((1 << k) - 1)) / 2.0**k).astype(np.float32)[:, None]
-            x1 = (x0 + 1) % p.shape[1]
-            c = columns[a] = np.empty((p.shape[0], w, self.dims), np.float32)
-
-            def across(r: slice, p=p, c=c, x0=x0, x1=x1, tx=tx) -> None:
-                c[r] = p[r, x0] + tx * (p[r, x1] - p[r, x0])
-
-            run(across, [slice(i, min(i + EXEMPLAR_ROWS, p.shape[0]))
-                         for i in range(0, p.shape[0], EXEMPLAR_ROWS)], progress)
+        out = np.empty((h * w, self.dims), np.float32)
+        ancestors = [(a - self.level, self.projected[a].reshape(-1, -(-w >> a - self.level),
+                                                                  self.dims))
+                     for a in self.ancestors]
 
         def block(rows: slice) -> None:
             total = np.broadcast_to(self.offset, (rows.stop - rows.start, w, self.dims)).copy()
-            y = np.arange(rows.start, rows.stop)
-            for a, c in columns.items():
-                k = a - self.level
-                y0 = y >> k
-                ty = ((y & ((1 << k) - 1)) / 2.0**k).astype(np.float32)[:, None, None]
-                top, bottom = c[y0], c[(y0 + 1) % c.shape[0]]
-                total += top + ty * (bottom - top)
+            for k, p in ancestors:
+                step, first = 1 << k, rows.start >> k
+                r = p[np.arange(first, ((rows.stop - 1) >> k) + 2) % p.shape[0]]
+                r1 = np.roll(r, -1, axis=1)                  # sample x0 + 1, wrapping
+                c = np.empty((len(r), w, self.dims), np.float32)
+                for phase in range(min(step, w)):            # x = x0 2^k + phase
+                    n, t = len(range(phase, w, step)), np.float32(phase / step)
+                    c[:, phase::step] = r[:, :n] + t * (r1[:, :n] - r[:, :n])
+                for y in range(rows.start, min(rows.start + step, rows.stop)):
+                    i = (y >> k) - first                     # rows y, y + 2^k, ..: y0 = i, i + 1..
+                    n, t = len(range(y, rows.stop, step)), np.float32((y & step - 1) / step)
+                    top, bottom = c[i:i + n], c[i + 1:i + n + 1]
+                    total[y - rows.start::step] += top + t * (bottom - top)
             out[rows.start * w:rows.stop * w] = total.reshape(-1, self.dims)
 
         run(block, [slice(a, min(a + EXEMPLAR_ROWS, h)) for a in range(0, h, EXEMPLAR_ROWS)],
@@ -287,8 +309,8 @@ class BallSampler:
     def __init__(self, points: np.ndarray, eps: float = 0.0, nearest_eps: float = 0.0,
                  indexed: np.ndarray | None = None):
         self.eps, self.nearest_eps = eps, nearest_eps
-        self.points = np.asarray(points, dtype=np.float64)
-        self.indexed = indexed                   # the points the tree holds (None: all)
+        self.points = np.asarray(points)  # float32 kept: differences with float64 queries
+        self.indexed = indexed            # are exact; the points the tree holds (None: all)
         # unbalanced, uncompacted nodes: a third of the build time, queries as fast or faster
         self.tree = cKDTree(self.points if indexed is None else self.points[indexed],
                             balanced_tree=False, compact_nodes=False)
@@ -442,6 +464,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
                 src[rows] = sampler.draw(queries, rng)
             step(rows[-1] / (h * w), f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
+        del space, sampler               # the next level's table is built without them
     return sources
 
 
@@ -519,19 +542,24 @@ def _indexed(shape, levels: int) -> list[int]:
 
 
 def _memory(shape, width, height, params):
-    """The exemplar's level values (and their columns while stacked), then the larger of two
-    phases. Sampling the finest level: per exemplar pixel, the projected parent structures of
-    every location (float64) and their ancestors' upsampled columns; per indexed location, its
-    kd-tree; per output pixel, the int32 source maps. Collapsing: per output pixel, the output,
-    the source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
-    batches."""
+    """The exemplar's level values, held throughout (per exemplar pixel 4 C bytes at the finest
+    level, 4 C (K + 1) / 4 per coarser level of a quarter the size: about 4 C (1 + (K + 1) / 3)),
+    and the largest of three phases. Analysing: two channels' transforms side by side, 38 bytes
+    per exemplar pixel (measured). Sampling the finest level: per exemplar pixel its projected
+    parent structure (float32) and its ancestors' (8 bytes); per indexed location, its kd-tree;
+    per output pixel, the int32 source maps. Collapsing: per output pixel, the output, the
+    source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
+    batches. On the 12 MP photo and its 1024 crop to 2048^2: 0.95-0.99 and 0.98-1.00 of the
+    measured growth of resident memory (3 runs each)."""
     k, c = params["orientations"], shape[2]
     exemplar = shape[0] * shape[1]
+    held = 4 * c * (1 + (k + 1) / 3) * exemplar
     sources = 4 * 4 / 3 * width * height
     tree = min(exemplar, 2 * TREE_POINTS)
-    sampling = (8 * MAX_DIMS + 42) * exemplar + 80 * tree + sources
+    analysing = 38 * exemplar
+    sampling = (4 * MAX_DIMS + 8) * exemplar + 80 * tree + sources
     collapsing = (4 * c + 4 * 4 / 3 + 16) * width * height + sources
-    return 4 * c * (k + 2) * exemplar + max(sampling, collapsing) + (24 << 20)
+    return held + max(analysing, sampling, collapsing) + (24 << 20)
 
 
 def _cost(shape, width, height, params):
@@ -541,7 +569,10 @@ def _cost(shape, width, height, params):
     pyramid's locations); per exemplar pixel, its periodic component, Laplacian pyramid and
     projected parent structures; per indexed location, the tree's build. Fitted on a 1024^2
     crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at factor 0.36; the query term had
-    predicted under half of the crop's time)."""
+    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, as the
+    12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then 8.6 -> 5.8 s, medians of
+    alternating runs on a loaded machine) once its finest level's table was made by slices:
+    not refitted on a quiet machine."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
@@ -551,7 +582,7 @@ def _cost(shape, width, height, params):
         locations += 0.75 * n * (0.56 if n > COHERENT_PIXELS else 1.0)
     levels = pyramid_depth(shape, width, height, params["scales"])
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
-            + 4.9e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
+            + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
 
 
 METHOD = register(Method(
