@@ -45,7 +45,7 @@ from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .jackknife import line_inflation
 from .lines import LineCost, horizon_through, photo_families, spaced_horizon
-from .search import evaluate, hessian, minimize, minimize_then
+from .search import evaluate, hessian, minimize
 from .spectra import (
     _ANALYSIS_SIDE,
     Criterion,
@@ -131,6 +131,8 @@ _MIN_ACROSS = 64     # analysis pixels across the shorter side: the 64 x 64 mini
 _LENS_MM = (13.0, 200.0)  # the lenses photos come from, 35 mm equivalent (phones to telephoto)
 _DIAGONAL_35MM = math.hypot(36.0, 24.0)  # the 35 mm frame's diagonal the equivalent refers to
 _OUTLINE = 4         # analysis pixels between a segment and an untextured region
+_OTHER_XATOL = 0.02  # gradient units (about 1 deg): the opposite receding direction's search
+_OTHER_TOL = 0.01    # noise units: how near its minimum that search's value must come
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -209,18 +211,21 @@ def _fit_isotropy(crit: Criterion, fine: Spectra) -> _Fit:
 def _settle_direction(cost, criterion, starts, step):
     """The best fit from ``starts``, the best fit receding either way, and by how much (noise
     units) it beats the best fit receding the other way: a second search confined to the
-    half-plane opposite the first."""
-    def other_side(fit):
-        axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
+    half-plane opposite the first. That search needs the other side's best value, not where it
+    lies: it stops within ``_OTHER_TOL`` noise units of it (and ``_OTHER_XATOL``); where it
+    wins, it is refined to the first search's precision."""
+    fit = minimize(cost, starts, step)
+    _, raw, dof = criterion(fit.x)
+    axis = fit.x / max(np.linalg.norm(fit.x), 1e-12)
 
-        def other_way(q):
-            return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
+    def other_way(q):
+        return cost(q) + 100.0 * max(0.0, float(q @ axis)) ** 2
 
-        return minimize(other_way, [-fit.x], step)
-
-    fit, flipped = minimize_then(cost, starts, step, other_side)
+    flipped = minimize(other_way, [-fit.x], step, _OTHER_XATOL, _OTHER_TOL * _noise(raw, dof))
+    if flipped.fun < fit.fun:
+        flipped = minimize(other_way, [flipped.x], step)
+        _, raw, dof = criterion(flipped.x)
     best, worse = (fit, flipped) if fit.fun <= flipped.fun else (flipped, fit)
-    _, raw, dof = criterion(best.x)
     return fit, best.x, (worse.fun - best.fun) / _noise(raw, dof), raw, dof
 
 

@@ -14,7 +14,7 @@ import scipy.optimize as opt
 
 from ..blocks import parallel
 
-__all__ = ["evaluate", "minimize", "minimize_then", "hessian"]
+__all__ = ["evaluate", "minimize", "hessian"]
 
 
 def evaluate(fun, points) -> list[float]:
@@ -22,41 +22,23 @@ def evaluate(fun, points) -> list[float]:
     return parallel.run(fun, points)
 
 
-def _nelder_mead(fun, x0, step):
+def _nelder_mead(fun, x0, step, xatol, fatol):
     x0 = np.asarray(x0, dtype=np.float64)
     simplex = np.vstack([x0, x0 + np.diag(np.broadcast_to(step, x0.shape))])
     return opt.minimize(fun, x0, method="Nelder-Mead",
-                        options={"initial_simplex": simplex, "xatol": 2e-3, "fatol": 1e-4,
+                        options={"initial_simplex": simplex, "xatol": xatol, "fatol": fatol,
                                  "maxfev": 300})
 
 
-def minimize(fun, starts, step):
-    """Nelder-Mead from each start; the best result (the first of equals)."""
-    results = parallel.run(lambda x0: _nelder_mead(fun, x0, step), starts)
+def minimize(fun, starts, step, xatol: float = 2e-3, fatol: float = 1e-4):
+    """Nelder-Mead from each start; the best result (the first of equals). It stops once the
+    simplex is within ``xatol`` of its best vertex and its values within ``fatol``: a search
+    that needs the minimum's value and not where it lies may take wider tolerances."""
+    results = parallel.run(lambda x0: _nelder_mead(fun, x0, step, xatol, fatol), starts)
     best = results[0]
     for res in results[1:]:
         if res.fun < best.fun:
             best = res
-    return best
-
-
-def minimize_then(fun, starts, step, then):
-    """(best, then(best)) for best = minimize(fun, starts, step): ``then`` runs on each start's
-    result as soon as it is found, on that start's thread (the same result, sooner on two
-    cores than waiting for the best)."""
-    if parallel.WORKERS < 2 or len(starts) < 2:  # nothing to gain by running ``then`` on each
-        best = minimize(fun, starts, step)
-        return best, then(best)
-
-    def task(x0):
-        res = _nelder_mead(fun, x0, step)
-        return res, then(res)
-
-    results = parallel.run(task, starts)
-    best = results[0]
-    for pair in results[1:]:
-        if pair[0].fun < best[0].fun:
-            best = pair
     return best
 
 
