@@ -62,7 +62,7 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import uniform_filter
+from scipy.ndimage import uniform_filter1d
 
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
@@ -283,7 +283,9 @@ def box_means(image, size, stride, wrap, kept=None):
                  * np.minimum(stride, w - np.arange(0, w, stride))[None, :])
             kept["blocks"] = sums / n[:, :, None].astype(np.float32)
         image, size = kept["blocks"], size // stride
-    return uniform_filter(image, (size, size, 1), mode="wrap" if wrap else "nearest")
+    mode = "wrap" if wrap else "nearest"
+    return uniform_filter1d(uniform_filter1d(image, size, axis=0, mode=mode), size, axis=1,
+                            mode=mode)
 
 
 def _channel_statistics(exemplar):
