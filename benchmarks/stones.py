@@ -115,13 +115,15 @@ def figures(image: np.ndarray, joint: tuple, min_area: int, periodic: bool,
     area, solidity = s[:, 0], s[:, 1]
     whole = area <= large
     order = np.argsort(area[whole])
-    cum = np.cumsum(area[whole][order]) / area[whole].sum()
-    median = float(area[whole][order][np.searchsorted(cum, 0.5)])
-    return {"stones": len(s), "median area": median,
-            "p99 area": float(area[whole][order][min(whole.sum() - 1,
-                                                     np.searchsorted(cum, 0.99))]),
+    cum = np.cumsum(area[whole][order]) / max(area[whole].sum(), 1)
+
+    def quantile(q):  # area-weighted; nan without a whole stone
+        return float(area[whole][order][min(whole.sum() - 1, np.searchsorted(cum, q))]) \
+            if whole.any() else np.nan
+    return {"stones": int(whole.sum()), "median area": quantile(0.5), "p99 area": quantile(0.99),
             "merged": float(share[~whole].sum() / share.sum()),
-            "solidity": float((solidity * share)[whole].sum() / share[whole].sum()),
+            "solidity": float((solidity * share)[whole].sum() / max(share[whole].sum(), 1))
+            if whole.any() else np.nan,
             "broken": float(share[whole & (solidity < SOLID)].sum() / share.sum())}
 
 
