@@ -51,6 +51,24 @@ is above the photo's mean squared neighbour difference in brackets (``benchmarks
 crop -> twice its size): brick wall 512: 21 (19) before, 5 (0) after; 1024: 51 (51), 1 (0);
 setts 1024: 5 (5), 0; gravel 512: 8 (8), 0; 1024: 26 (26), 0. The re-cut takes about 1 % of the run.
 
+Why setts came out as stubs and halves (issue 25: joints ending inside a stone, stones pieced
+from two halves): the level count followed the texel (twice the correlation length,
+``texsynth.blocks.period``), which on setts reads a quarter to a half of the period of a stone
+and its joint, because the grain and the stones' different greys decorrelate within a stone
+(``REACH_TEXELS``' figures). The largest patch at the coarsest level then covered part of a
+stone (the 12 MP setts' 1024 crop: 4 levels, 16 px at level 3 = 128 px against a 330 px
+period), so no level placed whole stones, and the finer patches joined pieces. Now the largest
+patch spans ``REACH_TEXELS`` texels (Kwatra et al. 2005, 3: the largest patch size captures the
+largest structure). Stones (``benchmarks.stones``, share of stone area in stones run together,
+photo 0): the 12 MP setts' 1024 crop to 2048, 4 -> 6 levels, 1.00 -> 0.61; a 512 crop of the
+2048 setts photo to 1024, 3 -> 5 levels, 0.98 -> 0.65 (median whole-stone area over the photo's
+0.47 -> 1.08). The texel measure also reads a large photo sampled (as the MRF), not on a pyramid
+level, whose block means drop the grain and lengthen it (the 12 MP setts: 168 px, not 312): 7
+levels, where 6 already spanned a stone (merged 0.61 -> 0.65: no gain there). Brick wall,
+gravel and the stochastic photos keep their level counts (and outputs);
+layered or jagged rock gain two (4 -> 6, 5 -> 7: a 512 crop of layered rock to 1024, gradient
+0.996 -> 1.005, seam 1.00 -> 1.03, longer layers, no new artefact seen).
+
 Deviations, one line each:
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
@@ -58,9 +76,9 @@ Deviations, one line each:
   is the pixel of its best overlapping patch, the highest IRLS weight (usage term included)
   times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
   crisp, and the position map (so every map of a material can follow);
-- ``levels`` 0 (the default) takes enough levels for the largest patch to span the texel
-  (``texsynth.blocks.period``, measured on a pyramid level of at most ``PROBE`` pixels), at
-  least 3; the coarse levels (2 and up) run ``COARSE`` times the EM iterations;
+- ``levels`` 0 (the default) takes enough levels for the largest patch to span
+  ``REACH_TEXELS`` texels (``texsynth.blocks.period``), at least 3; the coarse levels (2 and
+  up) run ``COARSE`` times the EM iterations;
 - on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
   lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
   stays on it; every exemplar pixel still lies in a lattice patch);
@@ -106,8 +124,10 @@ COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
-#: The most pixels the texel size is measured on (a larger photo: on its pyramid).
-PROBE = 1 << 20
+#: Texels the coarsest (largest) patch spans: the texel (twice the correlation length) reads a
+#: quarter to a half of the setts' period, stone and joint (512 crop of the 2048 setts photo:
+#: 40 px against 170; the 12 MP setts' 1024 crop: 86 against 336; the 12 MP setts: 168 / 344).
+REACH_TEXELS = 4
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 3
 #: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
@@ -127,14 +147,12 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
-def _auto_levels(pyramid, patch):
+def _auto_levels(exemplar, patch):
     """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
-    the exemplar's texel (``texsynth.blocks.period``), and at least ``MIN_LEVELS``; the texel is
-    measured on the first level of the exemplar's ``pyramid`` within ``PROBE`` pixels."""
-    lv = next((k for k, z in enumerate(pyramid) if z.shape[0] * z.shape[1] <= PROBE),
-              len(pyramid) - 1)
-    texel = texel_size(pyramid[lv]) * 2 ** lv
-    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, texel / patch)))))
+    ``REACH_TEXELS`` of the exemplar's texels (``texsynth.blocks.period``, which samples a large
+    photo), and at least ``MIN_LEVELS``."""
+    texel = texel_size(exemplar)
+    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, REACH_TEXELS * texel / patch)))))
 
 
 def _stride(shape, p) -> int:
@@ -164,7 +182,7 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     for _ in range(level_count(exemplar.shape, width, height, patch_size, 8) - 1):
         pyramid.append(_downsample(pyramid[-1]))
     if levels == 0:
-        levels = _auto_levels(pyramid, patch_size << (sizes - 1))
+        levels = _auto_levels(exemplar, patch_size << (sizes - 1))
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
     del pyramid[n_levels:]
     steps = [(lv, p) for lv in reversed(range(n_levels))
