@@ -18,6 +18,12 @@ orthogonality, so a non-orthogonal pair whose texture fit is loose is still take
 The receding direction: the texture's Gaussian is made symmetric under p -> -p, so only the lines
 (vanishing points on one side) or the texture fit's own test (homogeneity) can settle it.
 
+Two deviations in the stated uncertainty: where the texture fit and the combined plane disagree
+beyond their uncertainties, the covariance is widened by the Birge ratio (:func:`_birge`), as
+a model error of one cue (a false or curved family) shows there and not in the lines' scatter;
+and a fit that finds no perspective is refitted as orthographic (:func:`_orthographic`), where
+the lines fix p only through their orthogonality.
+
 A lens prior, with the focal length unknown: parallel lines cannot tell a frontal photo from a
 slanted telephoto one (v = p w / side is 0 either way), but photos come from lenses of about
 13-200 mm (35 mm equivalent; w = side / f in ``lens``), taken as log-uniform. When two
@@ -154,6 +160,46 @@ def _frontal_under_prior(cost: LineCost, total, lens: tuple[float, float], free:
     return Combined(b * p_max, None, cov, None, True, True, True)
 
 
+def _birge(p: np.ndarray, p_t: np.ndarray, cov_t: np.ndarray) -> float:
+    """The factor (>= 1) by which the combined covariance is widened when the texture fit
+    (p_t, its (slant, tilt) covariance ``cov_t``) and the combined plane p disagree beyond
+    their stated uncertainty: the Birge ratio squared, chi^2 / dof (Birge 1932; the Particle
+    Data Group's scale factor, Olive et al. 2014, sec. 5.2.2), with chi^2 the texture fit's
+    Mahalanobis distance in p (either receding direction) and 2 degrees of freedom. Deviation:
+    only the texture's term enters (the lines' own, at the plane they lead to, is near 0); a
+    model error of either cue (a false or curved family, a texture's own anisotropy) shows as
+    their disagreement, not as the lines' scatter, which the jackknife measures."""
+    info = np.linalg.inv(_p_covariance(p_t, cov_t))
+    chi2 = min(float(d @ info @ d) for d in (p - p_t, p + p_t))
+    return max(1.0, chi2 / 2.0)
+
+
+def _orthographic(cost: LineCost, prior, starts: list[np.ndarray]) -> Combined:
+    """The plane refitted as the orthographic view the lines show (w = 0), and its covariance
+    there. Under orthography parallel lines stay parallel whatever p is: the families fix p
+    only through their orthogonality on the plane (when it holds, ``cost.orthogonal``), the
+    texture fit (``prior``, in theta = (p, w)) the rest or nothing. Taken from the joint fit in
+    (p, w) instead, p and w trade along the ridge v = p w / side = 0, the Hessian there is a
+    saddle, and its curvatures' sizes stated a precise p no cue gave (an orthographic brick view
+    at slant 66 stated 1.3 deg and was 24 off); the families' weighted mean directions also
+    drift with p at steep slants, which pulled p to the search's bound."""
+    def flat(q):
+        theta = np.array([q[0], q[1], 0.0])
+        value = prior(theta)
+        if cost.orthogonal:
+            _, miss = cost.residuals(theta[:2], np.zeros(2))
+            value += 0.5 * float(robust((miss / math.radians(ORTHOGONAL_DEG)) ** 2))
+        return value
+
+    def bounded(q):
+        return flat(q) + 1e4 * max(0.0, math.hypot(q[0], q[1]) - _MAX_P) ** 2
+
+    fit = minimize(bounded, starts, np.array([0.05, 0.05]))
+    p = np.asarray(fit.x, dtype=np.float64)
+    cov = _inverse(hessian(flat, p, np.maximum(1e-3, 0.01 * np.abs(p))))
+    return Combined(p, None, st_covariance(p, cov), None, True, False)
+
+
 def _inverse(hess: np.ndarray) -> np.ndarray:
     """Covariance from a finite-difference Hessian: curvature taken by its size (the robust
     losses and the differences can make a small one negative), none means unbounded."""
@@ -246,8 +292,10 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     alone = _inverse(hessian(lines, theta, np.maximum(1e-3, 0.01 * np.abs(theta))))
     determined = st_covariance(p, alone[:2, :2])[0, 0] < _DETERMINED ** 2
     if known:
-        return Combined(p, focal_given, cov_st, None, ambiguous_t and not settled, determined)
+        return Combined(p, focal_given, cov_st * _birge(p, p_t, cov_t), None,
+                        ambiguous_t and not settled, determined)
     w, s_w = float(theta[2]), math.sqrt(max(cov[2, 2], 0.0))
     if w <= 2.0 * s_w:  # no significant perspective: frontal under the lens prior, or orthographic
-        return under_prior() or Combined(p, None, cov_st, None, True, False)
-    return Combined(p, side / w, cov_st, s_w / w, ambiguous_t and not settled, determined)
+        return under_prior() or _orthographic(cost, prior, [p, theta_t[:2], mirror[:2]])
+    return Combined(p, side / w, cov_st * _birge(p, p_t, cov_t), s_w / w,
+                    ambiguous_t and not settled, determined)

@@ -6,11 +6,18 @@ shared by every piece: the pieces' direction errors are not independent, and a v
 fitted to them is less certain than their number says. The delete-a-group jackknife (Efron &
 Tibshirani 1993, ch. 11; the groups are the lines, as the clusters of a cluster sample, Kish
 1965, sec. 5.4) measures the vanishing point's variance with the lines as the independent
-units; its ratio to the delete-one-segment jackknife of the same fit is the design effect by
-which the segments' noise variance is widened (:class:`~texsynth.plane.lines.LineCost`).
-Deviation: the vanishing point is the weighted least-squares fit of
+units; its ratio to the variance the segments' own direction noise gives the same fit
+(:attr:`~texsynth.plane.lines.Segments.noise`, the noise :class:`~texsynth.plane.lines.LineCost`
+starts from) is the factor by which that noise variance is widened.
+Deviations: the vanishing point is the weighted least-squares fit of
 :func:`~texsynth.plane.lines.vanishing_point`, summarised by its direction from the image
-centre and its inverse distance; the larger of the two ratios is taken.
+centre and its inverse distance, and the larger of the two ratios is taken. The reference
+variance is the noise model's (first-order perturbation of the fit), not the delete-one-segment
+jackknife's (Kish's design effect): the families come with collinear pieces joined
+(:func:`~texsynth.plane.lines.photo_families`), a line is then mostly one segment and the two
+jackknives agree, while a joined joint's pixel noise (a fraction of a degree over its length)
+is far below its wander; the ratio to the model carries both, the lines' clustering and their
+scatter beyond a pixel's worth.
 """
 
 from __future__ import annotations
@@ -45,6 +52,34 @@ def _lines_of(family: Segments, vp: np.ndarray, side: float) -> np.ndarray:
     return labels
 
 
+def _summary_jacobian(x: np.ndarray) -> np.ndarray:
+    """d(direction, inverse distance) / dx of a homogeneous vanishing point x (2 x 3)."""
+    r2 = float(x[0] ** 2 + x[1] ** 2)
+    r = math.sqrt(r2)
+    return np.array([[-x[1] / r2, x[0] / r2, 0.0],
+                     [-x[2] * x[0] / r ** 3, -x[2] * x[1] / r ** 3, 1.0 / r]])
+
+
+def _model_variance(family: Segments, lines: np.ndarray, side: float) -> np.ndarray:
+    """Variance of the vanishing point's (direction, inverse distance) that the segments'
+    direction noise (:attr:`~texsynth.plane.lines.Segments.noise`, independent) gives the
+    weighted least-squares fit: first-order perturbation of the least eigenvector of
+    M = L^T L when each segment turns by its noise about its midpoint."""
+    values, vectors = np.linalg.eigh(lines.T @ lines)
+    x = vectors[:, 0]
+    weight = np.sqrt(family.weight)[:, None]
+    normal = lines / weight  # (n, c): unit normal n, offset c = -n . m / side
+    turned = np.concatenate([-normal[:, 1:2], normal[:, 0:1]], axis=1)  # dn / d(angle)
+    d_lines = np.concatenate([turned, -(turned * family.m / side).sum(axis=1, keepdims=True)],
+                             axis=1) * weight
+    # dM x for a turn of one segment: r (dr . x) + dr (r . x); dx by the other eigenvectors.
+    dmx = lines * (d_lines @ x)[:, None] + d_lines * (lines @ x)[:, None]
+    gap = np.maximum(values[1:] - values[0], 1e-30)
+    dx = -(dmx @ vectors[:, 1:]) / gap @ vectors[:, 1:].T  # (N, 3)
+    ds = dx @ _summary_jacobian(x).T  # (N, 2)
+    return (ds * ds * (family.noise ** 2)[:, None]).sum(axis=0)
+
+
 def line_inflation(family: Segments, side: float) -> float:
     """The factor (>= 1) by which the segments' direction-noise variance is widened so that the
     family's vanishing point is as uncertain as its independent lines make it.
@@ -59,8 +94,9 @@ def line_inflation(family: Segments, side: float) -> float:
     Returns
     -------
     float
-        The delete-one-line over the delete-one-segment jackknife variance of the vanishing
-        point (the larger over its direction and inverse distance), at least 1;
+        The delete-one-line jackknife variance of the vanishing point over the variance the
+        segments' direction noise gives it (the larger over its direction and inverse
+        distance), at least 1;
         ``_UNMEASURED`` when the family holds fewer than ``_MIN_LINES`` distinct lines.
 
     References
@@ -70,22 +106,21 @@ def line_inflation(family: Segments, side: float) -> float:
 
     Examples
     --------
-    Six lines towards a vanishing point, each found as four pieces that share its error:
+    Eight joints towards a vanishing point, each found as one segment 300 pixels long (a
+    pixel's worth of direction noise: 0.0033 rad) that wanders 0.02 rad as a whole:
 
     >>> import numpy as np
     >>> from texsynth.plane.lines import Segments
     >>> rng = np.random.default_rng(0)
     >>> vp = np.array([0.0, 900.0])
     >>> m, d = [], []
-    >>> for x in np.linspace(-120, 120, 6):
+    >>> for x in np.linspace(-120, 120, 8):
     ...     along = (vp - (x, 0.0)) / np.linalg.norm(vp - (x, 0.0))
-    ...     error = rng.normal(0.0, 0.02)  # radians, shared by the line's pieces
-    ...     for t in (-90.0, -30.0, 30.0, 90.0):
-    ...         a = np.arctan2(along[1], along[0]) + error
-    ...         m.append((x, 0.0) + t * along)
-    ...         d.append((np.cos(a), np.sin(a)))
-    >>> family = Segments(np.array(m), np.array(d), np.full(24, 40.0))
-    >>> bool(line_inflation(family, 320.0) > 2.0)
+    ...     a = np.arctan2(along[1], along[0]) + rng.normal(0.0, 0.02)
+    ...     m.append((x, 0.0))
+    ...     d.append((np.cos(a), np.sin(a)))
+    >>> family = Segments(np.array(m), np.array(d), np.full(8, 300.0))
+    >>> bool(line_inflation(family, 320.0) > 5.0)  # about (0.02 / 0.0033)^2 = 36
     True
     """
     lines = weighted_lines(family, side)
@@ -106,5 +141,5 @@ def line_inflation(family: Segments, side: float) -> float:
         d[:, 0] = (d[:, 0] + math.pi) % (2 * math.pi) - math.pi
         return (len(d) - 1) / len(d) * (d * d).sum(axis=0)
 
-    ratio = jackknife(labels) / np.maximum(jackknife(np.arange(len(family))), 1e-30)
+    ratio = jackknife(labels) / np.maximum(_model_variance(family, lines, side), 1e-30)
     return float(max(1.0, ratio.max()))
