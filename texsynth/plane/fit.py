@@ -29,6 +29,11 @@ Deviations from the section, one line each:
   outline against a black world or sky is a line of the plane but of neither family.
 - a family's segment noise is widened by the design effect of its distinct lines
   (:func:`~texsynth.plane.jackknife.line_inflation`) before the line noise is calibrated.
+- with the focal length known, two families are checked against the first one's equal spacing
+  (homogeneity of the lines' positions, :func:`~texsynth.plane.lines.spaced_horizon`): where
+  their plane and the spacing's differ by over ``_AGREE_DEG``, the second family is dropped and
+  the spacing gives the plane, as for a lone family (short head joints laid by hand misled the
+  vanishing point; the spacing is tested on the joined segments, stricter than on pieces).
 """
 
 from __future__ import annotations
@@ -133,6 +138,8 @@ _DIAGONAL_35MM = math.hypot(36.0, 24.0)  # the 35 mm frame's diagonal the equiva
 _OUTLINE = 4         # analysis pixels between a segment and an untextured region
 _OTHER_XATOL = 0.02  # gradient units (about 1 deg): the opposite receding direction's search
 _OTHER_TOL = 0.01    # noise units: how near its minimum that search's value must come
+_AGREE_DEG = 6.0     # normals of the two families' plane and that spacing's may differ this much:
+#                      twice the lines' systematic floor (_SYSTEMATIC; frontal setts: 4.2)
 
 
 def _grid_starts(fun, tilts_over: float, count: int = 3):
@@ -392,7 +399,12 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         # the second one.
         inner = ndi.binary_erosion(mask, iterations=_OUTLINE, border_value=1)
         found = photo_families(lum, small, k, inner, image)
-        spaced = None
+        spaced, check = None, None
+        if len(found) == 2 and not found[0].dense and focal_px is not None:
+            check = spaced_horizon(found[0], horizon_through(found[0], side), side)
+            if check is not None and _spacing_conflict(crit, fit.horizon, check[0],
+                                                       focal_px / k) > _SPACING_CONFLICT:
+                check = None
         if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
             # One family on its own was wrong more often than right where the texture is
             # isotropic (foreshortened texels line up across the tilt); where it is not
@@ -440,6 +452,12 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.isotropy_based and not both.determined, both.focal_sd)
             floor = _SYSTEMATIC if both.determined else floor
             under_prior = both.under_prior
+            if check is not None and _normal_angle(fit.p, check[0] * focal_px / k) > _AGREE_DEG:
+                # The second family's vanishing point against the first's equal spacing: the
+                # spacing of a wall's courses is measured along every course, a head joint's
+                # direction over a course's height (a brick wall at slant 24 read 8.5 deg off).
+                found, spaced, floor, under_prior = found[:1], check, _SYSTEMATIC, False
+                fit = texture_fit(check)
     slant, tilt = angles_from_gradient(fit.p)
     if fit.focal is None:  # p and -p are the same orthographic view
         tilt %= 180.0
@@ -460,6 +478,12 @@ def _spacing_conflict(crit: Criterion, v_texture, v_spaced, f: float) -> float:
 
     own, raw, dof = cost(v_texture)
     return (cost(v_spaced)[0] - own) / _noise(raw, dof)
+
+
+def _normal_angle(p: np.ndarray, q: np.ndarray) -> float:
+    """Angle (degrees) between the normals of the planes of gradients p and q."""
+    a, b = (np.append(x, 1.0) / math.sqrt(1.0 + float(x @ x)) for x in (p, q))
+    return math.degrees(math.acos(min(1.0, float(a @ b))))
 
 
 def _distance(both, fit: _Fit, prior: np.ndarray) -> float:
