@@ -99,7 +99,8 @@ def stored_estimate(settings, frontal: bool = False) -> estimate.PlaneEstimate:
         normal_uncertainty=math.degrees(settings.uncertainty), focal_uncertainty=None,
         anisotropy=settings.anisotropy, method="stored",
         image_size=(settings.image_width, settings.image_height),
-        line_families=settings.line_families, lens_prior=settings.lens_prior and not frontal)
+        line_families=settings.line_families, lens_prior=settings.lens_prior and not frontal,
+        lines_found=settings.lines_found)
 
 
 def judged(settings) -> estimate.Verdict:
@@ -209,6 +210,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
         settings.tilt_uncertainty = math.radians(min(result.tilt_uncertainty, 180.0))
         settings.anisotropy = result.anisotropy
         settings.line_families = result.line_families
+        settings.lines_found = result.lines_found
         settings.lens_prior = result.lens_prior
         where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
         lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \

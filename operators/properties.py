@@ -326,6 +326,9 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
     line_families: bpy.props.IntProperty(
         name="Line Families", min=0, max=2,
         description="Families of straight lines (joints, edges) the estimate used")
+    lines_found: bpy.props.IntProperty(
+        name="Line Families Found", min=0, max=2,
+        description="Families of straight lines the photo showed, used or not")
     lens_prior: bpy.props.BoolProperty(
         name="Under a Lens Prior",
         description="Focal length unknown: the lines stayed parallel under every 13-200 mm lens "

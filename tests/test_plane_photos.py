@@ -6,6 +6,7 @@ left -1e-17 past the bright plane, its square root NaN, and the whole mask empty
 """
 
 import io
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -77,3 +78,17 @@ def test_a_guess_says_so_and_why():
     assert known.summary == "Measured: frontal (no measurable slant)"
     steep = verdict(estimate_plane(photograph(brick_texture(), 50.0, 120.0, 300.0)))
     assert not steep.guess and steep.slant_measured and steep.summary == "Measured"
+
+
+def test_lines_found_but_not_used_are_not_called_absent():
+    """A brick wall whose joints the estimate rules out must not read "no straight lines": the
+    verdict says which lines the photo showed and why they did not count."""
+    noise = estimate_plane(photograph(noise_texture(), 0.0, 0.0))
+    assert noise.line_families == 0 and noise.lines_found == 0
+    said = {n: verdict(replace(noise, lines_found=n)).reasons for n in (0, 1, 2)}
+    assert "no straight lines" in said[0]
+    assert "one family of lines, too weak on its own" in said[1]
+    assert any(r.startswith("lines found but not used") for r in said[2])
+    assert not any("no straight lines" in r for r in said[1] + said[2])
+    bricks = estimate_plane(photograph(brick_texture(), 50.0, 120.0, 300.0))
+    assert bricks.lines_found >= bricks.line_families == 2

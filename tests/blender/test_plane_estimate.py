@@ -212,6 +212,16 @@ def _panel_labels(settings):
     return _draw("TEXSYNTH_PT_plane_view3d")
 
 
+def test_the_panel_does_not_call_lines_it_ruled_out_absent():
+    settings = _guess(bpy.context.scene)
+    settings.lines_found = 2
+    try:
+        said = " / ".join(_panel_labels(settings).labels)
+    finally:
+        settings.lines_found = 0
+    assert "lines found but not used" in said and "no straight lines" not in said
+
+
 def test_the_panel_says_when_the_estimate_is_a_guess_and_why():
     settings = _guess(bpy.context.scene)
     layout = _panel_labels(settings)

@@ -82,7 +82,10 @@ class PlaneEstimate:
     orientations after rectification: about 0.6 to 1 for stochastic textures, 1 to 3.5 for bricks,
     tiles and planks, where the isotropy assumption fails; beyond 1 it widens the uncertainty of
     an estimate that rests on the texture). ``line_families``: how many families of
-    straight lines (0, 1 or 2: mortar joints, tile edges, seams) entered the estimate.
+    straight lines (0, 1 or 2: mortar joints, tile edges, seams) entered the estimate;
+    ``lines_found``: how many the photo showed before they were checked (a lone family on an
+    isotropic texture, or families no plane explains beside the texture, are found but not
+    used).
     ``lens_prior``: with the focal length unknown, the lines stayed parallel under every lens
     of 13-200 mm (35 mm equivalent): the view is frontal to within ``slant_uncertainty``, as
     measured under that prior (an orthographic or telephoto photo beyond it is not covered).
@@ -104,6 +107,7 @@ class PlaneEstimate:
     image_size: tuple[int, int]
     line_families: int = 0
     lens_prior: bool = False
+    lines_found: int = 0
 
     @property
     def orthographic(self) -> bool:
@@ -380,7 +384,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     mask = texture_mask(small)
     fine = spectra(small, mask, _MOMENT_W_MAX, _WINDOW)
     crit = Criterion(fine).band_limited(_W_MAX)
-    found, spaced, under_prior = [], None, False
+    found, spaced, under_prior, seen = [], None, False, 0
     # A telephoto view (field of view under about 5 degrees) has no perspective left to read
     # the slant from: homogeneity is flat in slant there, so the view is taken as orthographic.
     telephoto = focal_px is not None and focal_px / k > _TELEPHOTO * max(small.shape)
@@ -399,6 +403,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         # the second one.
         inner = ndi.binary_erosion(mask, iterations=_OUTLINE, border_value=1)
         found = photo_families(lum, small, k, inner, image)
+        seen = len(found)
         spaced, check = None, None
         if len(found) == 2 and not found[0].dense and focal_px is not None:
             check = spaced_horizon(found[0], horizon_through(found[0], side), side)
@@ -465,7 +470,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     estimated = focal is not None and focal_px is None
     return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
                    _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor,
-                   under_prior)
+                   under_prior, seen)
 
 
 def _spacing_conflict(crit: Criterion, v_texture, v_spaced, f: float) -> float:
@@ -502,7 +507,8 @@ def _anisotropy(crit: Criterion, fit: _Fit) -> float:
 
 
 def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy, isotropy_based,
-            method, size, line_families, floor, under_prior=False) -> PlaneEstimate:
+            method, size, line_families, floor, under_prior=False,
+            lines_found=0) -> PlaneEstimate:
     """The record, with uncertainties (one sigma, degrees) and confidence.
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian
@@ -533,6 +539,7 @@ def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
         normal_uncertainty=float(s_normal),
         focal_uncertainty=None if focal_sd is None or focal is None else float(focal * focal_sd),
         anisotropy=float(math.sqrt(max(anisotropy, 0.0))), method=method, image_size=size,
-        line_families=line_families, lens_prior=bool(under_prior))
+        line_families=line_families, lens_prior=bool(under_prior),
+        lines_found=max(int(lines_found), line_families))
 
 

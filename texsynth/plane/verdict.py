@@ -14,6 +14,9 @@ __all__ = ["Verdict", "verdict"]
 _GUESS = 0.5        # confidence below which an estimate is a guess (issue 27's bar for frontal)
 _SLANT_Z = 2.0      # a slant under this many sigmas is no evidence of any slant (0 fits as well)
 _TILT_SD = 30.0     # deg: a receding direction less certain than this is not told
+#: What the verdict says when no lines entered the estimate, by the families the photo showed.
+_UNUSED = ("no straight lines", "one family of lines, too weak on its own",
+           "lines found but not used: no plane explains them and the texture together")
 _DIRECTIONAL = 1.0  # RMS log-energy spread beyond which the texture's own grain reads as slant
 
 
@@ -50,14 +53,16 @@ def verdict(estimate) -> Verdict:
         What :func:`~texsynth.plane.estimate_plane` returned (or a record with its
         ``confidence``, ``slant``, ``slant_uncertainty``, ``tilt_uncertainty``,
         ``tilt_ambiguous_180``, ``line_families``, ``anisotropy`` and, optionally,
-        ``lens_prior``).
+        ``lens_prior`` and ``lines_found``).
 
     Returns
     -------
     Verdict
         ``guess`` when the confidence is under 0.5; ``slant_measured`` when the slant is more
         than two of its sigmas from 0 (a frontal photo without a cue reads 15-30 deg with a
-        sigma as wide: that is no measurement of any slant); ``reasons``: no straight lines,
+        sigma as wide: that is no measurement of any slant); ``reasons``: no straight lines
+        (or lines found but not used: a lone family on a texture that does not confirm it, or
+        families that no plane explains beside the texture),
         a directional texture (its own grain reads as slant under the isotropy assumption of
         Forsyth & Ponce, sec. 11.4.1), no measurable slant, an uncertain receding direction.
         ``lens_prior``: with the focal length unknown, the lines stayed parallel under every
@@ -89,7 +94,7 @@ def verdict(estimate) -> Verdict:
             reasons.append(f"lines parallel: frontal within ± {sd_slant:.0f}° for any 13-200 mm "
                            "lens (35 mm eq.)")
         if estimate.line_families == 0:
-            reasons.append("no straight lines")
+            reasons.append(_UNUSED[min(int(getattr(estimate, "lines_found", 0)), 2)])
         if estimate.anisotropy > _DIRECTIONAL and estimate.line_families < 2:
             reasons.append("texture anisotropic (its own grain reads as slant)")
         if measured and not estimate.tilt_ambiguous_180 and estimate.tilt_uncertainty > _TILT_SD:
