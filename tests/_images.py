@@ -2,6 +2,8 @@
 
 import numpy as np
 
+from texsynth.metrics import luminance
+
 
 def smooth_noise(shape, seed=0, sigma=2.0, channels=3):
     """Band-limited noise with channel correlation, like a photographed stochastic texture."""
@@ -30,3 +32,23 @@ def wasserstein(a, b):
     p = (np.arange(256) + 0.5) / 256
     return max(float(np.abs(np.quantile(a[..., k], p) - np.quantile(b[..., k], p)).mean())
                for k in range(a.shape[2]))
+
+
+def isolated(image, spread, labels=None):
+    """Share of the pixels whose luminance lies beyond every one of their 8 neighbours' by more
+    than ``spread`` (salt and pepper); with ``labels``, of the pixels whose 8 neighbours are all
+    of their class."""
+    y = luminance(image)
+    ring = [(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx]
+    around = np.stack([np.roll(y, d, (0, 1)) for d in ring])
+    lone = (y < around.min(axis=0) - spread) | (y > around.max(axis=0) + spread)
+    if labels is None:
+        return float(lone.mean())
+    inside = np.all([np.roll(labels, d, (0, 1)) == labels for d in ring], axis=0)
+    return float(lone[inside].mean())
+
+
+def half_iqr(image):
+    """Half the interquartile range of an image's luminance."""
+    return 0.5 * float(np.subtract(*np.percentile(luminance(image), [75, 25])))
+

@@ -12,6 +12,8 @@ from texsynth.algorithms.composite.segmentation import label_colours, labels_fro
 from texsynth.algorithms.cooccurrence import cliques
 from texsynth.metrics import seam_ratio
 
+from _images import half_iqr, isolated, smooth_noise
+
 FAST = {"max_cliques": 6, "sweeps": 8}
 RED, BLUE = np.array([0.8, 0.25, 0.2]), np.array([0.2, 0.35, 0.85])
 
@@ -262,3 +264,18 @@ def test_a_label_image_of_too_many_classes_is_the_promised_value_error():
     with pytest.raises(ValueError, match=f"{segmentation.MAX_CLASSES + 1} classes; at most"):
         labels_from_image(many)
     assert labels_from_image(many[:-1]).max() == segmentation.MAX_CLASSES - 1
+
+
+def test_a_large_composite_of_smooth_subtextures_has_no_salt_and_pepper(monkeypatch):
+    """Filled from a half-size composite, no pixel inside a region jumps far from all its
+    neighbours: on smooth subtextures (none of the exemplar's pixels lies half its
+    interquartile range beyond all 8 neighbours), unbounded refining proposals left 2.3-2.6%
+    of the regions' inner pixels so (speckle), now 0.5-0.6%."""
+    _, truth = _two_colours((64, 64))
+    photo = (0.6 * np.where(truth[:, :, None] == 1, BLUE, RED)
+             + 0.4 * smooth_noise((64, 64), seed=3, sigma=2.0)).astype(np.float32)
+    monkeypatch.setattr(composite, "COARSE_PIXELS", 48 * 48)
+    out = composite.synthesize(photo, 128, 128, labels=truth, seed=1, **FAST)
+    assert isolated(photo, half_iqr(photo), truth) == 0
+    assert isolated(out.image, half_iqr(photo), out.output_labels) < 0.012
+    assert seam_ratio(out.image) < 1.3

@@ -20,7 +20,7 @@ from texsynth.algorithms.cooccurrence.cliques import (
 )
 from texsynth.metrics import seam_ratio
 
-from _images import ramp_photo, smooth_noise
+from _images import half_iqr, isolated, ramp_photo, smooth_noise
 
 FAST = {"max_cliques": 8, "sweeps": 8}
 
@@ -244,3 +244,52 @@ def test_a_large_photo_s_model_holds_the_statistics_of_all_of_it():
         * model.basis[0, 0] + model.mean[0]
     dark = float(np.asarray(channel.singleton, np.float64)[grey < 0.45].sum())
     assert dark == pytest.approx(1 / 3, abs=0.03)
+
+
+def test_a_large_output_of_a_smooth_texture_has_no_salt_and_pepper(monkeypatch):
+    """Refined from a half-size synthesis, no pixel jumps far from all its neighbours: on
+    smooth noise (none of its pixels lies half its interquartile range beyond all 8
+    neighbours), unbounded refining proposals left 2.5% of the output so (speckle)."""
+    import texsynth.algorithms.cooccurrence as method
+
+    photo = smooth_noise((64, 64), seed=3, sigma=2.0)
+    monkeypatch.setattr(method, "COARSE_PIXELS", 48 * 48)
+    out = texsynth.synthesize(photo, 128, 128, method="cooccurrence", seed=1, **FAST)
+    assert isolated(photo, half_iqr(photo)) == 0
+    assert isolated(out, half_iqr(photo)) < 0.005
+    assert seam_ratio(out) < 1.3
+
+
+def test_a_grey_photo_with_a_faint_tint_keeps_its_colours():
+    """The weak colour components (a grey photo's faint tint) keep their spread and mean: a
+    level's width of dither around each level's middle gave them 3 times their spread and
+    moved the mean colour by up to 2 of it (colour speckle, a pink cast)."""
+    grey = smooth_noise((64, 64), seed=4, sigma=2.0, channels=1)
+    photo = (0.2 + 0.6 * grey + 0.03 * (smooth_noise((64, 64), seed=5) - 0.5)).astype(np.float32)
+
+    def chroma(image):
+        return image - image.mean(axis=2, keepdims=True)
+
+    out = texsynth.synthesize(photo, 96, 96, method="cooccurrence", seed=1, **FAST)
+    spread = chroma(photo).std(axis=(0, 1))
+    assert np.all(np.abs(chroma(out).std(axis=(0, 1)) / spread - 1) < 0.25)
+    assert np.all(np.abs(chroma(out).mean(axis=(0, 1)) - chroma(photo).mean(axis=(0, 1)))
+                  < 0.25 * spread)
+
+
+def test_a_model_keeps_each_level_s_values_and_reads_a_file_without_them(model, tmp_path):
+    """Each level decodes to the mean of the exemplar's values in it (level_statistics); a
+    model file written before they were kept still loads, decoding to the levels' middles."""
+    channel = model.channels[0]
+    g = len(channel.levels)
+    middles = channel.lo + (np.arange(g) + 0.5) * (channel.hi - channel.lo) / g
+    assert channel.centres is not None and not np.allclose(channel.centres, middles)
+    assert np.all(np.abs(channel.centres - middles) <= (channel.hi - channel.lo) / g / 2 + 1e-6)
+    path = tmp_path / "model.npz"
+    model.save(path)
+    with np.load(path) as data:
+        old = {k: data[k] for k in data.files if k not in ("centres", "spreads")}
+    np.savez_compressed(tmp_path / "old.npz", **old)
+    again = co.Model.load(tmp_path / "old.npz")
+    assert again.channels[0].centres is None
+    assert again.synthesize(24, 20, seed=4).shape == (20, 24, 3)

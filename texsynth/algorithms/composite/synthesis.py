@@ -49,8 +49,9 @@ Deviations, one line each:
   the selection windows are its own pixels;
 - production sizes (multiresolution relaxation, as ``texsynth.cooccurrence``): with
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
-  filled at half size (exemplar, labels and output labels halved), upsampled, and relaxed from
-  there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise.
+  filled at half size (exemplar, labels and output labels halved), upsampled class by class,
+  and relaxed from there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise, by
+  proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``).
 """
 
 from __future__ import annotations
@@ -331,10 +332,11 @@ def _candidates(seen: np.ndarray, labels: np.ndarray, n: int, others: list[int],
 
 def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
                        max_offset, threshold, max_cliques, levels, sweeps, selection_size,
-                       start=None, start_labels=None):
+                       start=None):
     """Section 4: every PCA component, every class in ``order``, with interactions; each
-    region relaxed from noise, or from the image ``start`` (the output's size) when given,
-    whose pixels take the class ``start_labels`` (noise where that is not their own class).
+    region relaxed from noise, or from the image ``start`` (the output's size) when given
+    (each region's pixels from its own class: :func:`_upsample_by_class`), by steps of one
+    level (``cooccurrence.model.synthesize_channel``).
     The exemplar's statistics come from its sample of strips (``cliques.anchor_rows``: every
     pixel up to ``cliques.ANCHORS``), its selection windows from its own pixels."""
     reach = max(max_offset, interaction_distance)
@@ -400,28 +402,27 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
             else:
                 synth[region] = co.quantize(initial[:, :, k][region], lo[k],
                                             lo[k] + g * width, g)
-                stray = region & (start_labels != n)
-                synth[stray] = rng.choice(levels_k, size=int(stray.sum()), p=singleton)
             part(0.4, "starting the synthesis")
             relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
-                               out_labels, n, co.STEP,
-                               lambda part=part: part(0.4, "counting cliques"))
+                               out_labels, n, co.STEP if initial is None else 1,
+                               lambda part=part: part(0.4, "counting cliques"),
+                               bounded=initial is not None)
             relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
             synth = relax.image
-        dither = rng.random(synth.shape, dtype=np.float32)
-        out[:, :, k] = lo[k] + (synth + dither) * np.float32(width)
+        centres, spreads = co.level_statistics(heads(comp, rows)[..., k], marks_heads, lo[k],
+                                               lo[k] + g * width, g)
+        out[:, :, k] = co.dither(synth, centres, spreads, rng)
     return np.clip(pca.inverse(out), x.min(axis=(0, 1)), x.max(axis=(0, 1)))
 
 
 def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_distance,
                          max_offset, threshold, max_cliques, levels, sweeps, selection_size):
     """:func:`_fill_cooccurrence`, from a half-size fill (recursively) above ``COARSE_PIXELS``
-    output pixels, when halving keeps every class of the exemplar and the output. Output
-    pixels whose 2 x 2 block's majority class is not their own (a boundary off the even grid)
-    start from their class's noise, not from the other class's colours."""
+    output pixels, when halving keeps every class of the exemplar and the output; each
+    region starts from its own class's half-size fill (:func:`_upsample_by_class`)."""
     (h, w), (height, width) = x.shape[:2], out_labels.shape
     classes = int(max(labels.max(), out_labels.max())) + 1
-    start = start_labels = None
+    start = None
     if width * height > COARSE_PIXELS and min(h, w) >= 64 and height % 2 == width % 2 == 0:
         report(0.0, "halving the exemplar")
         half_lab, half_out = _downscale(labels, 2, classes), _downscale(out_labels, 2, classes)
@@ -433,14 +434,36 @@ def _fill_coarse_to_fine(x, labels, out_labels, order, rng, report, interaction_
                                           report.span(0.0, 0.4), interaction_distance,
                                           max_offset, threshold, max_cliques, levels, sweeps,
                                           selection_size)
-            start = upsample_half(coarse, height, width, lambda report=report: report(
-                0.4, "upsampling the half-size fill"))
-            start_labels = half_out.repeat(2, axis=0).repeat(2, axis=1)
+            start = _upsample_by_class(coarse, half_out, out_labels, lambda report=report:
+                                       report(0.4, "upsampling the half-size fill"))
             sweeps = min(sweeps, REFINE_SWEEPS)
             report = report.span(0.4, 1.0)
     return _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_distance,
                               max_offset, threshold, max_cliques, levels, sweeps,
-                              selection_size, start, start_labels)
+                              selection_size, start)
+
+
+def _upsample_by_class(coarse: np.ndarray, half_labels: np.ndarray, labels: np.ndarray,
+                       tick) -> np.ndarray:
+    """The half-size fill ``coarse`` (h, w, C) stretched over ``labels``' (height, width)
+    (:func:`..cooccurrence.upsample_half`), each class's region from its own class's pixels
+    only: before upsampling, every pixel of ``coarse`` of another class in ``half_labels``
+    takes the value of its nearest pixel of the class (a pixel of a region near a boundary
+    would otherwise start from a blend of both classes, which refining steps of one level do
+    not undo). ``tick()`` before each class and channel."""
+    height, width = labels.shape
+    start = np.empty((height, width, coarse.shape[2]), np.float32)
+    for n in np.unique(labels):
+        tick()
+        outside = half_labels != n
+        own = coarse
+        if outside.any():
+            nearest = ndimage.distance_transform_edt(outside, return_distances=False,
+                                                     return_indices=True)
+            own = coarse[nearest[0], nearest[1]]
+        region = labels == n
+        start[region] = upsample_half(own, height, width, tick)[region]
+    return start
 
 
 def _present(labels: np.ndarray, classes: int) -> np.ndarray:

@@ -9,15 +9,17 @@ Everything of the method lives in this package:
 
 Deviation (production sizes, multiresolution relaxation): an output of more than
 ``COARSE_PIXELS`` pixels is first synthesized at half size from the exemplar block-averaged by 2
-(recursively), upsampled (bilinear, on the torus), and relaxed from there for ``REFINE_SWEEPS``
-sweeps instead of ``sweeps`` from noise: the coarse level lays out the large scales, the fine
-sweeps restore the fine-scale statistics.
+(recursively), upsampled (periodic Fourier resampling), and relaxed from there for
+``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise: the coarse level lays out the large
+scales, the fine sweeps restore the fine-scale statistics, by proposals of one level's step or
+from the singleton target, each clipped to the range of the pixel's 8 neighbours
+(``model.synthesize_channel``: unbounded ones left isolated extreme pixels, salt and pepper).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import zoom
+from scipy.signal import resample
 
 from ...registry import Method, register
 from .cliques import CHUNK
@@ -67,15 +69,17 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
 
 
 def upsample_half(coarse: np.ndarray, height: int, width: int, tick) -> np.ndarray:
-    """The half-size result ``coarse`` (h, w, C) stretched over (height, width) on the torus
-    (bilinear, periodic; a factor 2 for even sides, just under it for odd ones, where cropping a
-    2x result would cut the torus at the wrap); channel by channel, ``tick()`` before each."""
+    """The half-size result ``coarse`` (h, w, C) stretched over (height, width) on the torus:
+    its Fourier series evaluated on the finer grid (``scipy.signal.resample``, periodic), a
+    factor 2 for even sides and just under it for odd ones; channel by channel, ``tick()``
+    before each. Bilinear interpolation at half-pixel phase makes every other line's jump
+    about a fifth larger (a two-pixel grid the refinement keeps, the wrap on a larger line);
+    a periodic resampling is the same at every pixel."""
     start = np.empty((height, width, coarse.shape[2]), np.float32)
-    factor = (height / coarse.shape[0], width / coarse.shape[1])
     for c in range(coarse.shape[2]):
         tick()
-        start[:, :, c] = zoom(coarse[:, :, c], factor, order=1, mode="grid-wrap",
-                              grid_mode=True, prefilter=False)
+        rows = resample(np.asarray(coarse[:, :, c], np.float32), height, axis=0)
+        start[:, :, c] = resample(rows, width, axis=1)
     return start
 
 

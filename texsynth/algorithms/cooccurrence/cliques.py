@@ -28,16 +28,16 @@ singleton histogram of the free pixels towards their targets by minimising
 sampler of Zhu, Liu & Wu (2000) at zero temperature with random proposals. The pixels are split
 into sets with no selected clique inside a set (a lattice colouring of the torus,
 :func:`colour_sets`, shifted by a random torus translation each sweep, visited in random
-order, in chunks of at most ``CHUNK`` pixels); all pixels of a chunk are proposed a new
-value at once (half drawn from the
-singleton target, half a step of up to ``step`` levels), each one's exact single-pixel change of
-E is computed from the current histograms in one vectorised pass, and the improving proposals
-are applied together. No two pixels of a set share a clique, so their histogram changes add up
-exactly and the set's true change of E is known before it is applied; when many pixels move
-mass into the same bins and overshoot (E would rise), only the better half of them is kept,
-and so on. E therefore never increases; it is bounded below, so it converges (measured in
-docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60); :meth:`Relaxation.run`
-ends after a sweep that changes fewer than ``CONVERGED`` of the pixels.
+order, in chunks of at most ``CHUNK`` pixels); all pixels of a chunk are proposed a new value at
+once (half drawn from the singleton target, half a step of up to ``step`` levels; when refining
+a coarser synthesis, ``bounded``: clipped to the range of the pixel's 8 neighbours), each one's
+exact single-pixel change of E is computed from the current histograms in one vectorised pass,
+and the improving proposals are applied together. No two pixels of a set share a clique, so
+their histogram changes add up exactly and the set's true change of E is known before it is
+applied; when many pixels move mass into the same bins and overshoot (E would rise), only the
+better half of them is kept, and so on. E therefore never increases; it is bounded below, so it
+converges (measured in docs/BENCHMARKS.md: steep in the first 10 sweeps, flat after 30-60);
+:meth:`Relaxation.run` ends after a sweep that changes fewer than ``CONVERGED`` of the pixels.
 The grid is a torus, so every synthesized image tiles. (Zalesny et al. 2002 defers its synthesis
 procedure to its reference [13]; this sampler is ours.)
 """
@@ -292,8 +292,10 @@ class Relaxation:
     ``terms``: the clique terms. ``labels`` (H, W) and ``free_class``: only pixels of that
     class change (all pixels without labels); the others stay as they are. ``step``: half-width
     of the local proposals in levels (0: proposals from the singleton target only, as for
-    labels, whose levels have no order). ``tick()``, when given, is called while the
-    histograms are counted (where a caller may cancel).
+    labels, whose levels have no order). ``bounded``: every proposal is clipped to the range
+    of the levels of the pixel's 8 neighbours (those of its class), so that no proposal makes
+    a pixel a local extreme (for grey levels; labels are never bounded). ``tick()``, when
+    given, is called while the histograms are counted (where a caller may cancel).
 
     A free pixel p is the head of the cliques (p, p + d) and the tail of (p - d, p): each
     (term, end) whose own end is in the free class is a column. The image is kept as codes
@@ -305,12 +307,13 @@ class Relaxation:
     """
 
     def __init__(self, u, levels, singleton, terms, labels=None, free_class=0, step=3,
-                 tick=None):
+                 tick=None, bounded=False):
         self.levels = np.asarray(levels, np.int32)
         self.span = int(self.levels.max())
         self.bins = 2 * self.span + 1
         self.terms = list(terms)
         self.step = int(step)
+        self.bounded = bool(bounded) and self.step > 0
         u = np.asarray(u, np.int32)
         self.shape = h, w = u.shape
         labels = np.zeros(self.shape, np.int64) if labels is None else np.asarray(labels,
@@ -328,6 +331,8 @@ class Relaxation:
         offsets = np.array([term.offset for term in self.terms], np.int64).reshape(t, 2)
         m = max(1, int(np.abs(offsets).max(initial=0)))
         self.m, self.wp = m, w + 2 * m
+        self._ring = np.array([dy * self.wp + dx for dy in (-1, 0, 1) for dx in (-1, 0, 1)
+                               if dy or dx], np.int64)
         ghost = np.ones((h + 2 * m, self.wp), bool)
         ghost[m:m + h, m:m + w] = False
         gy, gx = np.nonzero(ghost)
@@ -455,13 +460,19 @@ class Relaxation:
             progress(1.0, message)
         return i + 1
 
-    def _propose(self, x, rng):
+    def _propose(self, x, padded, rng):
         n = len(self.levels)
         drawn = np.minimum(np.searchsorted(self._cdf, rng.random(x.size), side="right"), n - 1)
         if self.step > 0:
             jump = rng.integers(1, self.step + 1, x.size) * (2 * rng.integers(0, 2, x.size) - 1)
             local = np.clip(self.level_of[x] + jump, 0, n - 1)
             drawn = np.where(rng.random(x.size) < 0.5, drawn, local)
+            if self.bounded:
+                # the levels of the 8 neighbours of the pixel's own class (its own for others)
+                code = self.pad[padded[:, None] + self._ring] - self._shift
+                ring = self.level_of[np.where((code >= 0) & (code < self.bins), code,
+                                              x[:, None]).clip(0, self.span)]
+                drawn = np.clip(drawn, ring.min(axis=1), ring.max(axis=1))
         return self.levels[drawn]
 
     def sweep(self, rng, tick=None) -> float:
@@ -498,7 +509,7 @@ class Relaxation:
         enter, leave = self._tables() if c else (None, None)
         g_s = 2.0 * (self.singleton_counts / self.n_free - self.singleton_target) / self.n_free
         x = self.pad[padded] - self._shift
-        y = self._propose(x, rng)
+        y = self._propose(x, padded, rng)
         total = x.size
         # a proposal of the value the pixel has changes nothing: only the others are looked at
         moves = np.flatnonzero(x != y)
