@@ -7,9 +7,10 @@ by 7 to 9 deg."""
 import numpy as np
 import pytest
 import scipy.ndimage as ndi
-from _planes import normal_error, photograph
+from _planes import noise_texture, normal_error, photograph
 
 from texsynth.plane import estimate_plane
+from texsynth.plane.geometry import gradient
 
 #: A NaN or an overflow in the estimate is garbage on its way out (issue 27): an error here.
 pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
@@ -64,3 +65,19 @@ def test_courses_are_not_used_without_the_focal_length():
     from the texture's isotropy: a lone family on an isotropic texture stays out."""
     photo = photograph(setts_texture(), 45.0, 135.0, FOCAL, size=384)
     assert estimate_plane(photo).line_families == 0
+
+
+@pytest.mark.parametrize("tilt", [30.0, 200.0])
+def test_a_spacing_that_recedes_the_wrong_way_is_ruled_out(tilt):
+    """The gate on an isotropic texture's lone family: a chance period's chirp may point either
+    way; the texture's homogeneity accepts the true receding direction and refuses its mirror."""
+    from texsynth.plane import fit, spectra
+
+    slant = 45.0
+    photo = photograph(noise_texture(), slant, tilt, FOCAL)
+    small, _ = spectra.downsample(spectra.luminance(photo))
+    crit = spectra.Criterion(spectra.spectra(small, spectra.texture_mask(small), fit._MOMENT_W_MAX,
+                                             fit._WINDOW)).band_limited(fit._W_MAX)
+    v = gradient(slant, tilt) / FOCAL
+    assert fit._recedes_with(crit, v, FOCAL)
+    assert not fit._recedes_with(crit, -v, FOCAL)
