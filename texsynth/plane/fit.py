@@ -22,7 +22,9 @@ Deviations from the section, one line each:
 - with the focal length known, the texture's inhomogeneity left at the fit widens the
   uncertainty as noise shared by a few patches (``_PATCHES``, calibrated), not by every band;
 - a lone line family's spacing is taken only where the texture's homogeneity does not rule its
-  vanishing line out (:func:`_spacing_conflict`);
+  vanishing line out (:func:`_spacing_conflict`); on an isotropic texture only with the focal
+  length known (the spacing then gives the whole plane) and where the texture recedes the same
+  way (:func:`_recedes_with`: setts' courses, whose staggered sides form no second family);
 - with the focal length unknown, two line families that stay parallel read as frontal under a
   prior over the lenses photos come from (``_LENS_MM``; :mod:`~texsynth.plane.combine`).
 - line families are sought ``_OUTLINE`` pixels or more inside the textured region: the plane's
@@ -410,10 +412,14 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
             if check is not None and _spacing_conflict(crit, fit.horizon, check[0],
                                                        focal_px / k) > _SPACING_CONFLICT:
                 check = None
-        if len(found) == 1 and not found[0].dense and _anisotropy(crit, fit) > _ANISOTROPY_OK ** 2:
+        isotropic = _anisotropy(crit, fit) <= _ANISOTROPY_OK ** 2
+        if len(found) == 1 and not found[0].dense and (not isotropic or focal_px is not None):
             # One family on its own was wrong more often than right where the texture is
             # isotropic (foreshortened texels line up across the tilt); where it is not
-            # (boards), the family's equal spacing gives the vanishing line.
+            # (boards), the family's equal spacing gives the vanishing line. With the focal
+            # length known, that vanishing line is the whole plane (p = f v): there the spacing
+            # of an isotropic texture's courses (setts) is taken too, where the texture's
+            # homogeneity recedes the same way (_recedes_with).
             spaced = spaced_horizon(found[0], horizon_through(found[0], side), side)
             if spaced is not None and focal_px is None and (
                     np.linalg.norm(spaced[0]) <= 2.0 * math.sqrt(np.trace(spaced[1]))):
@@ -422,6 +428,8 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
             if spaced is not None and _spacing_conflict(crit, fit.horizon, spaced[0], f_h) \
                     > _SPACING_CONFLICT:
                 spaced = None  # a chance period across stones or veins the texture rules out
+            if spaced is not None and isotropic and not _recedes_with(crit, spaced[0], f_h):
+                spaced = None  # a period across marble veins, its chirp the wrong way round
         if spaced is not None:
             fit = texture_fit(spaced)
         elif len(found) == 1:
@@ -483,6 +491,17 @@ def _spacing_conflict(crit: Criterion, v_texture, v_spaced, f: float) -> float:
 
     own, raw, dof = cost(v_texture)
     return (cost(v_spaced)[0] - own) / _noise(raw, dof)
+
+
+def _recedes_with(crit: Criterion, v_spaced, f: float) -> bool:
+    """Whether the texture's homogeneity finds the plane q = f v of a family's spacing better
+    than its mirror -q by ``_EVIDENCE`` noise units: the spacing's chirp and the texels'
+    shrinking read the same receding direction. Equally spaced courses give both; a chance
+    period in a random texture has its chirp either way (the sign is a coin toss), so this
+    rules out half of them whatever their strength."""
+    q = np.asarray(v_spaced, dtype=np.float64) * f
+    value, raw, dof = crit.homogeneity(q, q / f)
+    return (crit.homogeneity(-q, -q / f)[0] - value) / _noise(raw, dof) >= _EVIDENCE
 
 
 def _normal_angle(p: np.ndarray, q: np.ndarray) -> float:
