@@ -35,7 +35,13 @@ Deviations from the section, one line each:
   (homogeneity of the lines' positions, :func:`~texsynth.plane.lines.spaced_horizon`): where
   their plane and the spacing's differ by over ``_AGREE_DEG``, the second family is dropped and
   the spacing gives the plane, as for a lone family (short head joints laid by hand misled the
-  vanishing point; the spacing is tested on the joined segments, stricter than on pieces).
+  vanishing point; the spacing is tested on the joined segments, stricter than on pieces);
+  with it unknown, the second family's vanishing point is checked against the spacing's
+  plane at the fitted focal length instead (:func:`_spacing_miss`), and the slant along the
+  spacing's vanishing line falls back to isotropy and the lens prior.
+- with the focal length unknown, a texture whose anisotropy breaks isotropy (beyond
+  ``_ANISOTROPY_OK``) does not refute two families' orthogonality: its slant, and so f, rests
+  on that isotropy (:func:`~texsynth.plane.combine.combine`'s ``texture_slant``).
 """
 
 from __future__ import annotations
@@ -51,7 +57,14 @@ from .. import validation
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .jackknife import line_inflation
-from .lines import LineCost, horizon_through, photo_families, spaced_horizon
+from .lines import (
+    LineCost,
+    horizon_through,
+    photo_families,
+    spaced_horizon,
+    vanishing_point,
+    weighted_lines,
+)
 from .search import evaluate, hessian, minimize
 from .spectra import (
     _ANALYSIS_SIDE,
@@ -407,10 +420,11 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         found = photo_families(lum, small, k, inner, image)
         seen = len(found)
         spaced, check = None, None
-        if len(found) == 2 and not found[0].dense and focal_px is not None:
+        if len(found) == 2 and not found[0].dense:
             check = spaced_horizon(found[0], horizon_through(found[0], side), side)
+            f_h = side if focal_px is None else focal_px / k  # the texture fit's own f_ref
             if check is not None and _spacing_conflict(crit, fit.horizon, check[0],
-                                                       focal_px / k) > _SPACING_CONFLICT:
+                                                       f_h) > _SPACING_CONFLICT:
                 check = None
         isotropic = _anisotropy(crit, fit) <= _ANISOTROPY_OK ** 2
         if len(found) == 1 and not found[0].dense and (not isotropic or focal_px is not None):
@@ -455,7 +469,8 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         both = combine(cost, side, fit.p, prior,
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k,
-                       lens if anisotropy <= _ANISOTROPY_OK else None)
+                       lens if anisotropy <= _ANISOTROPY_OK else None,
+                       texture_slant=anisotropy <= _ANISOTROPY_OK)
         if both is None or (anisotropy <= _ANISOTROPY_OK
                             and _distance(both, fit, prior if fit.spread is None else
                                           prior - fit.cov + fit.spread) > _CONFLICT):
@@ -465,12 +480,15 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.isotropy_based and not both.determined, both.focal_sd)
             floor = _SYSTEMATIC if both.determined else floor
             under_prior = both.under_prior
-            if check is not None and _normal_angle(fit.p, check[0] * focal_px / k) > _AGREE_DEG:
+            if check is not None and _spacing_miss(fit, check[0], found[1], focal_px is None,
+                                                   side) > _AGREE_DEG:
                 # The second family's vanishing point against the first's equal spacing: the
                 # spacing of a wall's courses is measured along every course, a head joint's
                 # direction over a course's height (a brick wall at slant 24 read 8.5 deg off).
-                found, spaced, floor, under_prior = found[:1], check, _SYSTEMATIC, False
+                found, spaced, under_prior = found[:1], check, False
                 fit = texture_fit(check)
+                floor = _SYSTEMATIC if focal_px is not None else _SYSTEMATIC * max(
+                    1.0, math.sqrt(max(_anisotropy(crit, fit), 0.0)) / _ANISOTROPY_OK)
     slant, tilt = angles_from_gradient(fit.p)
     if fit.focal is None:  # p and -p are the same orthographic view
         tilt %= 180.0
@@ -502,6 +520,31 @@ def _recedes_with(crit: Criterion, v_spaced, f: float) -> bool:
     q = np.asarray(v_spaced, dtype=np.float64) * f
     value, raw, dof = crit.homogeneity(q, q / f)
     return (crit.homogeneity(-q, -q / f)[0] - value) / _noise(raw, dof) >= _EVIDENCE
+
+
+def _spacing_miss(fit: _Fit, v_spaced: np.ndarray, second, estimated: bool,
+                  side: float) -> float:
+    """How far (degrees) the two families' plane ``fit`` lies from the vanishing line
+    ``v_spaced`` of the first family's spacing. With the focal length f known: the angle
+    between the normals of p and f v_spaced. Estimated: f itself came from the second family
+    (Caprile & Torre 1990), and a wrong family trades f for its fit (a brick wall at slant 24
+    read 7.6 deg off with the two planes' normals 3.4 deg apart); there the test is the one
+    of the second family itself, its vanishing point's angle to the spacing's plane
+    p = f v_spaced on the Gauss sphere (Barnard 1983) at the fitted f; 0 when the fit has no
+    perspective (no f: the spacing has nothing to check)."""
+    if fit.focal is None:
+        return 0.0
+    if not estimated:
+        return _normal_angle(fit.p, v_spaced * fit.focal)
+    x = vanishing_point(second, side)
+    if x is None:  # parallel in the image: the direction (x, 0) at infinity
+        x = np.linalg.svd(weighted_lines(second, side), full_matrices=False)[2][-1][:2]
+        direction = np.append(x, 0.0)
+    else:
+        direction = np.append(x, -fit.focal)
+    normal = np.append(fit.focal * np.asarray(v_spaced, dtype=np.float64), 1.0)
+    sine = abs(float(direction @ normal)) / (np.linalg.norm(direction) * np.linalg.norm(normal))
+    return math.degrees(math.asin(min(1.0, sine)))
 
 
 def _normal_angle(p: np.ndarray, q: np.ndarray) -> float:
