@@ -135,11 +135,11 @@ def _cost(shape, width, height, params):
     run, the sample's gather), the sorts of the sampled values, and per channel the output's
     transforms and histogram matching (the spot's periodic component counted in them: n log n
     taken as flat). Fitted by least squares to quiet runs from crops of 256^2 to 2048^2 and
-    from the 12 MP setts, to 512^2-2048^2 (0.08-0.74 s; predicted 0.81-1.14x; the former model,
-    scaled on heeger_bergen's, predicted 0.26-0.33x)."""
+    from the 12 MP setts, to 512^2-2048^2 (0.03-0.5 s), the constant raised by the first
+    call's start-up in a fresh process (the photos section's runs)."""
     h, w, c = shape
     sampled = c * -(-h * w // sample_step(h * w, w, SAMPLES))
-    return 0.17 + 1.6e-8 * h * w * c + 5.5e-8 * sampled + 8e-8 * width * height * c
+    return 0.14 + 5e-9 * h * w * c + 5.5e-8 * sampled + 8.5e-8 * width * height * c
 
 
 METHOD = register(Method(
