@@ -241,7 +241,21 @@ def level_statistics(values: np.ndarray, level: np.ndarray, lo: float, hi: float
 def dither(level: np.ndarray, centres: np.ndarray, spreads: np.ndarray,
            rng: np.random.Generator) -> np.ndarray:
     """Values of the levels ``level``: each level's centre plus uniform dither over its
-    spread (float32, ``level``'s shape)."""
+    spread (float32, ``level``'s shape).
+
+    References
+    ----------
+    Zalesny et al. 2002, section 2: the model's grey levels; their decoding to values is ours
+    (see the module's deviations).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> centres, spreads = np.float32([0.12, 0.9]), np.float32([0.06, 0.0])
+    >>> v = dither(np.array([0, 0, 1]), centres, spreads, rng)
+    >>> bool(np.all(np.abs(v[:2] - 0.12) <= 0.03)), float(v[2])
+    (True, 0.8999999761581421)
+    """
     u = rng.random(level.shape, dtype=np.float32) - np.float32(0.5)
     return centres[level] + u * spreads[level]
 
