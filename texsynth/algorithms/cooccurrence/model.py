@@ -161,11 +161,7 @@ class ChannelModel:
         level = np.searchsorted(self.levels, marks)
         if self.categorical:
             return level.astype(np.int32)
-        g = len(self.levels)
-        width = (self.hi - self.lo) / g
-        centres = self.lo + (np.arange(g) + 0.5) * width if self.centres is None \
-            else self.centres
-        spreads = np.full(g, width) if self.spreads is None else self.spreads
+        centres, spreads = _or_middles(self)
         return dither(level, np.asarray(centres, np.float32), np.asarray(spreads, np.float32),
                       rng)
 
