@@ -178,13 +178,12 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     ``levels`` 0: enough to span the exemplar's texel (see the module notes).
     """
     progress(0.0, "analysing the exemplar")
-    pyramid = [exemplar]  # built once, to the most levels any choice may use
-    for _ in range(level_count(exemplar.shape, width, height, patch_size, 8) - 1):
-        pyramid.append(_downsample(pyramid[-1]))
     if levels == 0:
         levels = _auto_levels(exemplar, patch_size << (sizes - 1))
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
-    del pyramid[n_levels:]
+    pyramid = [exemplar]  # built once, to the levels used
+    for _ in range(n_levels - 1):
+        pyramid.append(_downsample(pyramid[-1]))
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
