@@ -70,6 +70,7 @@ from scipy.ndimage import uniform_filter1d
 from ..blocks import multigrid
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
+from ..blocks.region_shift import align_regions
 from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
@@ -89,6 +90,13 @@ MIN_LEVELS = 4
 REACH_TEXELS = 2
 #: The most exemplar positions a level's table holds (448 bytes each for RGB, radius 3).
 TABLE_ROWS = 1 << 21
+#: The largest move of a copied region, in grid steps each way, when a level's copies are
+#: slid into phase (``align_regions``).
+SHIFT = 2
+#: The largest grid (pixels) whose copies are slid into phase.
+ALIGN_PIXELS = 256 * 256
+#: Rounds of single region moves per level after the walk.
+SWEEPS = 1
 
 
 class _Level:
@@ -113,7 +121,7 @@ class _Level:
         self.rows, self.colours = rows, colours
         self.shape, self.n, self.k, self.wrap = shape, shape[0] * shape[1], k, wrap
         self.stride, self.width, self.windows = max(1, stride), width, stride == 0
-        self.c = colours.width
+        self.c, self.step = colours.width, step
         self.du = (step * offsets[:, 0]).astype(np.int32)
         self.dv = (step * offsets[:, 1]).astype(np.int32)
         self.offsets = offsets
@@ -249,11 +257,24 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
 
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
-        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool)
+        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool,
+        lambda lv, level, source, tick: _align(level, source, radius, tick)
+        if lv > 0 and source.size <= ALIGN_PIXELS else source)
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
     return Rows(colours)[source], positions
+
+
+def _align(level, source, radius, tick):
+    """The level's copied regions slid into phase (``align_regions`` on its grid, in its own
+    positions and values: neighbours ``level.step`` apart)."""
+    lh, lw = level.shape
+    z = level.colours.array.reshape(lh, lw, level.c)
+    q = level._to_level(source)
+    moved = align_regions(z, np.stack(np.divmod(q, lw), axis=2), SHIFT, SWEEPS, tick,
+                          level.step, walk=True, reach=radius)
+    return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
 
 
 def box_means(image, size, stride, wrap, kept=None):

@@ -76,7 +76,8 @@ def random_positions(shape, n, rng, pool=None, tick=None) -> np.ndarray:
 def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object], n: int, shapes,
                          visits: int | Callable[[int], int], rng: np.random.Generator,
                          progress: Progress,
-                         pool: Callable[[int], np.ndarray | None] | None = None) -> np.ndarray:
+                         pool: Callable[[int], np.ndarray | None] | None = None,
+                         settle: Callable[..., np.ndarray] | None = None) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
     coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
     call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
@@ -108,6 +109,9 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
         level = None  # the finer level's tables are built after the coarser one's are freed
         level = make_level(lv, building)
         relax(level, source, halves, t, rng, part, lv)
+        if settle is not None:
+            source = settle(lv, level, source, functools.partial(part, 1.0, f"level {lv}: "
+                                                                 "settling"))
     return source
 
 
