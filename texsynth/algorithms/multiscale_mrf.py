@@ -259,7 +259,8 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
         make_level, h * w, shapes,
         lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool,
         lambda lv, level, source, tick: _align(level, source, radius, tick)
-        if lv > 0 and source.size <= ALIGN_PIXELS else source)
+        if 0 < lv < len(shapes) - 1 and source.size <= ALIGN_PIXELS and not level.windows
+        else source)
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
@@ -270,10 +271,9 @@ def _align(level, source, radius, tick):
     """The level's copied regions slid into phase (``align_regions`` on its grid, in its own
     positions and values: neighbours ``level.step`` apart)."""
     lh, lw = level.shape
+    positions = np.stack(np.divmod(level._to_level(source), lw), axis=2)
     z = level.colours.array.reshape(lh, lw, level.c)
-    q = level._to_level(source)
-    moved = align_regions(z, np.stack(np.divmod(q, lw), axis=2), SHIFT, SWEEPS, tick,
-                          level.step, walk=True, reach=radius)
+    moved = align_regions(z, positions, SHIFT, SWEEPS, tick, level.step, walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
 
 

@@ -79,18 +79,23 @@ def _borders(label, reach):
     return out
 
 
-def _seam_costs(z, positions, label, n, deltas, step, tick, borders, movers=None, placed=None):
+def _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders, movers=None,
+                placed=None):
     """(len(deltas), n): each region's seam cost along its ``borders`` (``_borders``) with its
     shift moved by each delta (exemplar pixels; the rest fixed), output neighbours ``step``
-    exemplar pixels apart; infinite where a moved pixel leaves the exemplar; ``tick()`` after
-    each step g. With ``movers`` and ``placed`` (bool, n), only the borders of movers with
-    placed regions."""
-    zh, zw = z.shape[:2]
+    exemplar pixels apart, the exemplar (``shape``) given as its flat channel ``planes``;
+    infinite where a moved pixel leaves the exemplar; ``tick()`` after each step g. With
+    ``movers`` and ``placed`` (bool, n), only the borders of movers with placed regions."""
+    zh, zw = shape
     dy, dx = np.asarray(deltas).T
     chunk = max(1, CHUNK // len(deltas))
     flat, labels = positions.reshape(-1, 2), label.ravel()
     cost = np.zeros((len(deltas), n))
     outside = np.zeros((len(deltas), n), bool)
+
+    def at(r, c):  # flat exemplar index, clipped to the exemplar
+        return np.clip(r, 0, zh - 1) * zw + np.clip(c, 0, zw - 1)
+
     for g, s_at, t_at in borders:
         owner = labels[s_at]
         if movers is not None:
@@ -99,16 +104,17 @@ def _seam_costs(z, positions, label, n, deltas, step, tick, borders, movers=None
         d = (step * g[0], step * g[1])  # the same neighbour in the exemplar
         for i in range(0, len(s_at), chunk):  # all deltas at once, a bounded chunk of pixels
             s, t, o = flat[s_at[i:i + chunk]], flat[t_at[i:i + chunk]], owner[i:i + chunk]
-            b_s = z[np.clip(t[:, 0] - d[0], 0, zh - 1), np.clip(t[:, 1] - d[1], 0, zw - 1)]
-            b_t = z[t[:, 0], t[:, 1]]
+            b_s, b_t = at(t[:, 0] - d[0], t[:, 1] - d[1]), t[:, 0] * zw + t[:, 1]
             r, c = s[None, :, 0] + dy[:, None], s[None, :, 1] + dx[:, None]  # (deltas, pixels)
+            a_s, a_t = at(r, c), at(r + d[0], c + d[1])
+            e = np.zeros(r.shape, np.float32)
+            for p in planes:  # A(s) - B(s) and A(t) - B(t), A moved
+                u, v = p[a_s] - p[b_s], p[a_t] - p[b_t]
+                e += u * u + v * v
+            bins = (o + n * np.arange(len(deltas))[:, None]).ravel()
+            cost += np.bincount(bins, e.ravel(), n * len(deltas)).reshape(-1, n)
             out = (r < 0) | (r >= zh) | (c < 0) | (c >= zw)
-            a_s = z[np.clip(r, 0, zh - 1), np.clip(c, 0, zw - 1)]
-            a_t = z[np.clip(r + d[0], 0, zh - 1), np.clip(c + d[1], 0, zw - 1)]
-            e = ((a_s - b_s) ** 2).sum(axis=2) + ((a_t - b_t) ** 2).sum(axis=2)
-            at = (o + n * np.arange(len(deltas))[:, None]).ravel()
-            cost += np.bincount(at, e.ravel(), n * len(deltas)).reshape(-1, n)
-            outside |= np.bincount(at, out.ravel(), n * len(deltas)).reshape(-1, n) > 0
+            outside |= np.bincount(bins, out.ravel(), n * len(deltas)).reshape(-1, n) > 0
         tick()
     cost[outside] = np.inf
     return cost
@@ -128,7 +134,7 @@ def _independent(label, gain):
     return (gain > 0) & ~blocked
 
 
-def _walk(z, positions, deltas, step, tick, reach):
+def _walk(planes, shape, positions, deltas, step, tick, reach):
     """Each copy joined to those placed before it, breadth first from the largest: a wave of
     the copies bordering the placed ones takes, each, the move that best joins its seams with
     the placed copies (none unless it gains), then counts as placed."""
@@ -149,7 +155,8 @@ def _walk(z, positions, deltas, step, tick, reach):
         wave &= ~placed
         if not wave.any():  # not reached (a region graph on the torus is connected)
             break
-        cost = _seam_costs(z, positions, label, n, deltas, step, tick, borders, wave, placed)
+        cost = _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
+                           wave, placed)
         best = cost.argmin(axis=0)
         best[~wave | (cost[best, np.arange(n)] >= cost[still])] = still
         positions += np.asarray(deltas, np.int32)[best][label]
@@ -196,14 +203,15 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
               for dx in range(-radius, radius + 1)]
     still = deltas.index((0, 0))
     positions = positions.copy()
+    planes = [np.ascontiguousarray(z[:, :, k]).ravel() for k in range(z.shape[2])]
     if walk:
-        positions = _walk(z, positions, deltas, step, tick, reach)
+        positions = _walk(planes, z.shape[:2], positions, deltas, step, tick, reach)
     for _ in range(sweeps):
         n, label = regions(positions, step)
         tick()
         if n < 2:
             break
-        cost = _seam_costs(z, positions, label, n, deltas, step, tick,
+        cost = _seam_costs(planes, z.shape[:2], positions, label, n, deltas, step, tick,
                            _borders(label, reach))
         best = cost.argmin(axis=0)
         gain = cost[still] - cost[best, np.arange(n)]
