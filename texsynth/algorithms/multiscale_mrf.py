@@ -37,8 +37,23 @@ MRF, sampled from the exemplar, with Ashikhmin's candidate search, and confidenc
   together (``benchmarks.stones``; the photo 0), seeds 0-2, to 2048: from the 12 MP setts' 1024
   crop 0.98, 0.99, 1.00 before, 0.73, 0.95, 0.89 after; from the 12 MP setts 0.91, 0.53, 0.86
   before, 0.81, 0.69, 0.80 after: better from the crop, level from the 12 MP photo, far from
-  the photo both. The brick wall (1024 to 2048, seed 0) keeps its rows: row disagreement
-  (``benchmarks.straight_cuts``) 0.129 before and after (photo 0.090).
+  the photo both.
+- Bricks in rows (issue 25: from the brick wall's 1024 px photo to 2048, the courses stepped
+  by about half a course where two copied regions met, several times a 512 crop). Where the
+  steps arise (each level's position map rendered at full resolution, its courses' steps read
+  by ``texsynth.metrics.course_steps``, seed 0; the photo 0.019): levels 7 to 5, whose box
+  means of 32 to 128 px average the 33 px courses away, place copies in random course phase
+  (0.12 to 0.13); level 4, the first to see the courses, joins some (0.085); the finer levels
+  keep the rest (0.090 at the end): their neighbourhoods (r 2^l <= 24 px) reach across a
+  border but each visit moves one pixel, never a whole copy. So after each level between the
+  coarsest and the finest whose grid has at most ``ALIGN_PIXELS`` pixels, its copied regions
+  slide into phase (``texsynth.blocks.region_shift``: Pritch et al. 2009's shift-map labels,
+  Kwatra et al. 2003's seam cost summed over the level's disk, the level's own grid and box
+  means; copies placed breadth first from the largest, then one sweep of single moves): on
+  the brick wall level 3 (step 8, a quarter course) joins them. Course steps, seeds 0 and 1:
+  0.070 and 0.087 before, 0.044 and 0.048 after (``benchmarks.brick_rows``); gradient ratio
+  1.07-1.08 both. The finer levels are not aligned: a move of 2^l <= 4 px cannot turn half
+  a course, and their grids cost the most.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
@@ -59,7 +74,11 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
   differs from the exemplar's by less than s pixels when s does not divide its size.
 - levels reading whole-exemplar windows (2^l < s: the finest of a photo over ``TABLE_ROWS``
   pixels) compare pixels, not box means; a lattice's box starts at its point (s > 1), not
-  centred on it.
+  centred on it;
+- (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
+  copies are the random start's) and the finest, on a grid of at most ``ALIGN_PIXELS`` pixels
+  that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
+  where that lowers their seam cost (``align_regions``).
 """
 
 from __future__ import annotations

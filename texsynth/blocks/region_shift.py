@@ -14,12 +14,26 @@ row off their neighbours') then slides into phase; its inside stays a verbatim c
 A coarse grid of a multigrid synthesis (``multiscale_mrf``'s level l) is such a map whose
 neighbours lie ``step`` = 2^l exemplar pixels apart: with ``step`` a copy carries on where the
 exemplar position advances by ``step``, the seam cost compares the exemplar ``step`` away, and
-regions move by multiples of ``step``.
+regions move by multiples of ``step``. There (the brick wall's map at level 3, 2048 px: 446
+copies) the greedy sweeps left most steps in place, for two reasons, each answered by an
+option. A group of copies in phase with each other but half a course off the rest gains
+nothing from any one of them moving: ``walk`` first places the copies breadth first from the
+largest, each wave of copies taking the move that best joins them to the copies already
+placed, so a group follows its first member. And the seam cost of one pixel pair a coarse step
+apart is noisy (its minimum found the right phase on some borders only): ``reach`` sums it over
+the pixel pairs up to ``reach`` apart across the border (the MRF's neighbourhood disk, as its
+eq. 3 compares them) instead of the four neighbours. The share of that map's vertical borders
+where the copies' courses met over a quarter course apart (read on the photo's bed joints):
+0.28 before; 0.23 after 3 sweeps; 0.19 with the walk first; 0.11 with the walk and reach 3
+(0.17 with one sweep); its course steps (``texsynth.metrics.course_steps``) 0.071, 0.065,
+0.052, 0.043 (0.049).
 
 Deviations, one line each:
 - greedy region moves, not alpha-expansion: in a sweep every region takes its best ``delta``,
   and only regions whose gain beats every moving neighbour's move (no two neighbours at once);
 - regions are 4-connected runs of one copy on the torus (the output tiles);
+- the walk (ours) is a sequential labelling in breadth-first waves, each wave's copies moved
+  at once against the placed copies only (they may border each other);
 - a move that would take a pixel out of the exemplar is not considered.
 """
 
