@@ -86,10 +86,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
-from ..blocks import multigrid
+from ..blocks import multigrid, region_shift
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
-from ..blocks.region_shift import align_regions
 from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
@@ -274,12 +273,12 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
             return ((qr * w + qc) * stride).astype(np.int32)
         return None
 
+    aligned = _aligned(width, height, len(shapes), [])
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
         lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool,
         lambda lv, level, source, tick: _align(level, source, radius, tick)
-        if 0 < lv < len(shapes) - 1 and source.size <= ALIGN_PIXELS and not level.windows
-        else source)
+        if lv in aligned and not level.windows else source)
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
@@ -292,7 +291,8 @@ def _align(level, source, radius, tick):
     lh, lw = level.shape
     positions = np.stack(np.divmod(level._to_level(source), lw), axis=2)
     z = level.colours.array.reshape(lh, lw, level.c)
-    moved = align_regions(z, positions, SHIFT, SWEEPS, tick, level.step, walk=True, reach=radius)
+    moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
+                                       walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
 
 
@@ -384,7 +384,8 @@ def _memory(shape, width, height, params):
     windows level's (the windows, C + 1 floats a pixel with their margin, and the random
     start's draw over the exemplar, 8 bytes a pixel); the output's maps (position, confidence,
     visit need, and at the end the position pairs and colours: 26 + 4 C bytes a pixel); one
-    chunk's rows."""
+    chunk's rows; the alignment of the largest aligned grid (its K border pairs' indices, 16
+    bytes each, its region graph, and ``region_shift.CHUNK`` gathers of C + 4 numbers)."""
     h, w, c = shape
     r = params["radius"]
     k = len(disk_offsets(r))
@@ -394,7 +395,9 @@ def _memory(shape, width, height, params):
     window = (h + 2 * margin) * (w + 2 * margin) * (c + 1) * 4 + h * w * 8 if windows else 0
     maps = width * height * (26 + 4 * c)
     chunk = _Level.CHUNK * (k + params["random_candidates"]) * (4 * k * (c + 1) + 16) * 2
-    return h * w * c * 4 + max(table, window) + maps + chunk + (8 << 20)
+    grids = _aligned(width, height, n_levels, windows).values()
+    align = max(grids) * (16 * k + 64) + region_shift.CHUNK * (c + 4) * 8 if grids else 0
+    return h * w * c * 4 + max(table, window) + maps + chunk + align + (8 << 20)
 
 
 def _cost(shape, width, height, params):
@@ -402,7 +405,10 @@ def _cost(shape, width, height, params):
     each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
     its own coefficient, 1.35 times that for windows); the table of every table level;
-    the passes over the whole exemplar (centring, windows, the random start's draw). Fitted on
+    the passes over the whole exemplar (centring, windows, the random start's draw); per grid
+    pixel of an aligned level (``_aligned``), its K border pairs (0.6 s for a 256 x 256 grid
+    of the brick wall here under load 7, taken as half that quiet, times the 2.6 from this
+    machine's quiet runs to the reference). Fitted on
     64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
     18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
@@ -411,14 +417,22 @@ def _cost(shape, width, height, params):
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     units = refine_units = 0.0
+    align_units = k * sum(_aligned(width, height, n_levels, windows).values())
     for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
             refine_units += (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
                              * (1.35 if lv in windows else 1.0))
         else:
             units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
-    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units
+    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units + 4e-7 * align_units
             + 1.7e-8 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
+
+
+def _aligned(width, height, n_levels, windows):
+    """The levels whose copies slide into phase, {level: grid pixels}: those between the
+    coarsest and the finest, of at most ``ALIGN_PIXELS`` pixels, reading tables."""
+    return {lv: gh * gw for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels))
+            if 0 < lv < n_levels - 1 and gh * gw <= ALIGN_PIXELS and lv not in windows}
 
 
 METHOD = register(Method(
