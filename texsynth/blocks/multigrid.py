@@ -13,6 +13,8 @@ pixels are visited, when, and how the grids follow one another:
 - Multigrid (fig. 9): level l is the output decimated by 2^l with coordinates kept at full
   resolution. The coarsest grid starts from random positions; a finished level's pixels seed
   the even pixels of the next finer one with confidence 0.5, the others start random at 0.
+- A caller may settle a finished level's map before it seeds the next (``settle``:
+  ``multiscale_mrf`` slides its copied regions into phase there).
 
 Deviations, one line each:
 - visits are made in batches: each batch is a random lattice of pixels r + 1 apart (so no pixel
