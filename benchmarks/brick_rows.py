@@ -10,6 +10,11 @@ the rows' rhythm, ``seam_ratio_in_phase``), the row disagreement of
 bed joints of neighbouring column strips stand a quarter course or more apart
 (``texsynth.metrics.course_steps``, the course height read from the photo).
 ``--crops DIR`` saves the output's 512 px crop across the wrap and its middle as PNG.
+
+The row disagreement does not see the courses' steps (a per-pixel share that head joints and
+the bricks' shades dominate): on the brick wall, seeds 0 and 1, it read 0.129 before the MRF's
+copies slid into phase and 0.126-0.127 after, while the course steps went from 0.070 and 0.087
+to 0.044 and 0.048 (photo 0.019), matching what the crops show.
 """
 
 from __future__ import annotations
