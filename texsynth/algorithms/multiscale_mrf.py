@@ -81,7 +81,8 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
   copies are the random start's) and the finest, on a grid of at most ``ALIGN_PIXELS`` pixels
   that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
-  where that lowers their seam cost (``align_regions``).
+  where that lowers their seam cost (``align_regions``: placed breadth first from the
+  largest, then ``SWEEPS`` sweeps of single moves).
 """
 
 from __future__ import annotations
