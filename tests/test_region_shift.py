@@ -43,3 +43,34 @@ def test_a_copy_at_the_exemplar_edge_never_moves_out_of_it():
     pos = np.stack([i, j % 24 + 40 * (j >= 24)], axis=2)  # right copy against the right edge
     out = align_regions(ex, pos, radius=3)
     assert out.min() >= 0 and out[:, :, 0].max() < 64 and out[:, :, 1].max() < 64
+
+
+def test_a_group_of_copies_off_the_rest_follows_the_walk():
+    """Four copies side by side (wrapping), the first two in one phase, the last two half a
+    row lower: any one of them moving gains at one border what it loses at the other. The walk
+    alone (no sweeps), placing them breadth first from the largest, brings the last two in."""
+    ex = bricks((64, 64))
+    i, j = np.indices((32, 64))
+    cols = np.select([j < 20, j < 32, j < 48], [j + 4, j + 10, j - 22], j - 8)
+    pos = np.stack([i + 2 + 4 * (j >= 32), cols], axis=2)
+    borders = (20, 32, 48, 0)
+    image = ex[pos[:, :, 0], pos[:, :, 1]]
+    assert min(_rows_carry_on(image, b) for b in borders) < 0.8
+    walked = align_regions(ex, pos, radius=4, sweeps=0, walk=True)
+    image = ex[walked[:, :, 0], walked[:, :, 1]]
+    assert all(_rows_carry_on(image, b) == 1.0 for b in borders)
+    assert regions(walked)[0] == 4
+
+
+def test_on_a_coarse_grid_copies_move_by_whole_steps():
+    """A level's grid, neighbours 2 exemplar pixels apart: the right copy, 4 rows (half a
+    brick row) off, moves by a multiple of 2 and its rows carry on."""
+    ex = bricks((64, 64))
+    i, j = np.indices((16, 32))
+    pos = np.stack([2 * i + 4 * (j >= 16) + 2, 2 * (j % 16) + 1], axis=2)
+    assert regions(pos, step=2)[0] == 2 and regions(pos)[0] == 16 * 32  # at step 1: all apart
+    out = align_regions(ex, pos, radius=3, step=2, reach=2)
+    assert np.all((out - pos) % 2 == 0)
+    image = ex[out[:, :, 0], out[:, :, 1]]
+    rows = image[:, [15, 16]].mean(axis=2) < 0.3  # mortar either side of the border
+    assert np.array_equal(rows[:, 0], rows[:, 1])

@@ -53,11 +53,12 @@ def test_output_tiles_and_is_made_of_exemplar_pixels():
 
 
 def test_long_structures_survive_where_pixel_samplers_break_them():
+    """Against Heeger-Bergen's statistics; the multiscale MRF, which broke the rows here too
+    (7 of 12 mortar rows, structure distance 0.34 against 0.16), keeps them since its copies
+    slide into phase (issue 25: 12 of 12, 0.24)."""
     ex = bricks()
     out = texsynth.synthesize(ex, 96, 96, method="texture_optimization", seed=0)
-    mrf = texsynth.synthesize(ex, 96, 96, method="multiscale_mrf", seed=0)
     hb = texsynth.synthesize(ex, 96, 96, method="heeger_bergen", seed=0, iterations=5)
-    assert structure_distance(ex, out) < 0.6 * structure_distance(ex, mrf)
     assert structure_distance(ex, out) < 0.3 * structure_distance(ex, hb)
     assert patch_distance(ex, out, samples=300)["median"] < 0.05
 
@@ -65,7 +66,7 @@ def test_long_structures_survive_where_pixel_samplers_break_them():
         """Rows more than half mortar: the horizontal lines that carry on (12 in 96 rows)."""
         return int(((image.mean(axis=2) < 0.3).mean(axis=1) > 0.5).sum())
 
-    assert mortar_rows(out) >= 8 > mortar_rows(mrf)
+    assert mortar_rows(out) >= 8 > mortar_rows(hb)
 
 
 def test_same_seed_same_output_other_seed_other_output():

@@ -42,6 +42,8 @@ from .blocks.pyramid import SteerablePyramid, max_scales
 
 __all__ = [
     "luminance",
+    "course_period",
+    "course_steps",
     "seam_ratio",
     "seam_ratio_in_phase",
     "mean_gradient",
@@ -406,3 +408,56 @@ def power_spectrum_correlation(exemplar: np.ndarray, output: np.ndarray, bins: i
     a, b = _radial_log_power(exemplar, bins), _radial_log_power(output, bins)
     both = np.isfinite(a) & np.isfinite(b)
     return float(np.corrcoef(a[both], b[both])[0, 1])
+
+
+def course_period(image: np.ndarray) -> int:
+    """The course height of an image of rows (bricks, setts): the first peak of the
+    autocorrelation of its row profile (each row's mean luminance), between 8 px and a quarter
+    of the height.
+
+    Examples
+    --------
+    >>> rows = np.repeat((np.arange(128) % 20 < 3)[:, None], 64, axis=1).astype(np.float32)
+    >>> course_period(rows)
+    20
+    """
+    p = luminance(image).mean(axis=1)
+    p = p - p.mean()
+    a = np.correlate(p, p, "full")[len(p) - 1:]
+    return 8 + int(np.argmax(a[8:max(9, len(p) // 4)]))
+
+
+def course_steps(image: np.ndarray, period: int, strip: int = 32, wrap: bool = True) -> float:
+    """Where do the courses of a wall step? The share of places, per pair of neighbouring
+    column strips (``strip`` px; across the wrap too when ``wrap``) and window of two courses
+    (one every course), at which the vertical shift that best correlates the two strips' row
+    profiles, within half a course either way, is a quarter course or more: 0 for straight
+    courses, whatever their slope of under a quarter course a strip.
+
+    Examples
+    --------
+    >>> rows = np.repeat((np.arange(128) % 16 < 3)[:, None], 64, axis=1).astype(np.float32)
+    >>> course_steps(rows, 16)
+    0.0
+    >>> rows[:, 32:] = np.roll(rows[:, 32:], 8, axis=0)  # the right half half a course off
+    >>> course_steps(rows, 16)
+    1.0
+    """
+    y = luminance(image)
+    h, w = y.shape
+    n = w // strip
+    prof = y[:, :n * strip].reshape(h, n, strip).mean(axis=2)
+    left, right = (prof, np.roll(prof, -1, axis=1)) if wrap else (prof[:, :-1], prof[:, 1:])
+    half = period // 2
+    shifts = np.arange(-half, half + 1)
+    starts = np.arange(half, h - 2 * period - half, period)
+    rows = starts[:, None] + np.arange(2 * period)[None, :]  # (windows, 2 T)
+
+    def standard(a):  # (windows, 2 T, strips): each window's profile centred, unit norm
+        a = a - a.mean(axis=1, keepdims=True)
+        return a / np.maximum(np.sqrt((a * a).sum(axis=1, keepdims=True)), 1e-6)
+
+    a = standard(left[rows])
+    corr = np.stack([(a * standard(right[rows + d])).sum(axis=1) for d in shifts])
+    best = shifts[corr.argmax(axis=0)]  # (windows, strips)
+    return float((np.abs(best) >= period / 4).mean())

@@ -37,8 +37,26 @@ MRF, sampled from the exemplar, with Ashikhmin's candidate search, and confidenc
   together (``benchmarks.stones``; the photo 0), seeds 0-2, to 2048: from the 12 MP setts' 1024
   crop 0.98, 0.99, 1.00 before, 0.73, 0.95, 0.89 after; from the 12 MP setts 0.91, 0.53, 0.86
   before, 0.81, 0.69, 0.80 after: better from the crop, level from the 12 MP photo, far from
-  the photo both. The brick wall (1024 to 2048, seed 0) keeps its rows: row disagreement
-  (``benchmarks.straight_cuts``) 0.129 before and after (photo 0.090).
+  the photo both.
+- Bricks in rows (issue 25: from the brick wall's 1024 px photo to 2048, the courses stepped
+  by about half a course where two copied regions met, several times a 512 crop). Where the
+  steps arise (each level's position map rendered at full resolution, its courses' steps read
+  by ``texsynth.metrics.course_steps``, seed 0; the photo 0.019): levels 7 to 5, whose box
+  means of 32 to 128 px average the 33 px courses away, place copies in random course phase
+  (0.12 to 0.13); level 4, the first to see the courses, joins some (0.085); the finer levels
+  keep the rest (0.090 at the end): their neighbourhoods (r 2^l <= 24 px) reach across a
+  border but each visit moves one pixel, never a whole copy. So after each level between the
+  coarsest and the finest whose grid has at most ``ALIGN_PIXELS`` pixels, its copied regions
+  slide into phase (``texsynth.blocks.region_shift``: Pritch, Kav-Venaki & Peleg 2009, 3's
+  shift-map labels, Kwatra et al. 2003, 3.1's seam cost summed over the level's disk, on the
+  level's own grid and box means; copies placed breadth first from the largest, then one
+  sweep of single moves): on the brick wall level 3 (step 8, a quarter course) joins them.
+  Course steps, seeds 0 and 1: 0.070 and 0.087 before, 0.044 and 0.048 after
+  (``benchmarks.brick_rows``; ``benchmarks.straight_cuts``' row disagreement does not see
+  them: 0.129 before, 0.126 after); gradient ratio 1.07-1.08 both. Gravel (4 levels, none
+  aligned) comes out the same; layered rock: gradient 1.010 -> 1.031, seam 1.00 -> 1.02, its
+  cracks laid out anew; the 12 MP setts: gradient 1.013 -> 1.008, the alignment 0.8 s of a
+  34 s run under load 6. Aligning level 2 too (step 4, 512 x 512) gained nothing (0.049).
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
@@ -59,7 +77,12 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
   differs from the exemplar's by less than s pixels when s does not divide its size.
 - levels reading whole-exemplar windows (2^l < s: the finest of a photo over ``TABLE_ROWS``
   pixels) compare pixels, not box means; a lattice's box starts at its point (s > 1), not
-  centred on it.
+  centred on it;
+- (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
+  copies are the random start's) and the finest, on a grid of at most ``ALIGN_PIXELS`` pixels
+  that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
+  where that lowers their seam cost (``align_regions``: placed breadth first from the
+  largest, then ``SWEEPS`` sweeps of single moves).
 """
 
 from __future__ import annotations
@@ -67,7 +90,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
-from ..blocks import multigrid
+from ..blocks import multigrid, region_shift
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
 from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
@@ -89,6 +112,13 @@ MIN_LEVELS = 4
 REACH_TEXELS = 2
 #: The most exemplar positions a level's table holds (448 bytes each for RGB, radius 3).
 TABLE_ROWS = 1 << 21
+#: The largest move of a copied region, in grid steps each way, when a level's copies are
+#: slid into phase (``align_regions``).
+SHIFT = 2
+#: The largest grid (pixels) whose copies are slid into phase.
+ALIGN_PIXELS = 256 * 256
+#: Rounds of single region moves per level after the walk.
+SWEEPS = 1
 
 
 class _Level:
@@ -113,7 +143,7 @@ class _Level:
         self.rows, self.colours = rows, colours
         self.shape, self.n, self.k, self.wrap = shape, shape[0] * shape[1], k, wrap
         self.stride, self.width, self.windows = max(1, stride), width, stride == 0
-        self.c = colours.width
+        self.c, self.step = colours.width, step
         self.du = (step * offsets[:, 0]).astype(np.int32)
         self.dv = (step * offsets[:, 1]).astype(np.int32)
         self.offsets = offsets
@@ -247,13 +277,27 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
             return ((qr * w + qc) * stride).astype(np.int32)
         return None
 
+    aligned = _aligned(width, height, len(shapes), [])
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
-        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool)
+        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool,
+        lambda lv, level, source, tick: _align(level, source, radius, tick)
+        if lv in aligned and not level.windows else source)
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
     return Rows(colours)[source], positions
+
+
+def _align(level, source, radius, tick):
+    """The level's copied regions slid into phase (``align_regions`` on its grid, in its own
+    positions and values: neighbours ``level.step`` apart)."""
+    lh, lw = level.shape
+    positions = np.stack(np.divmod(level._to_level(source), lw), axis=2)
+    z = level.colours.array.reshape(lh, lw, level.c)
+    moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
+                                       walk=True, reach=radius)
+    return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
 
 
 def box_means(image, size, stride, wrap, kept=None):
@@ -344,7 +388,8 @@ def _memory(shape, width, height, params):
     windows level's (the windows, C + 1 floats a pixel with their margin, and the random
     start's draw over the exemplar, 8 bytes a pixel); the output's maps (position, confidence,
     visit need, and at the end the position pairs and colours: 26 + 4 C bytes a pixel); one
-    chunk's rows."""
+    chunk's rows; the alignment of the largest aligned grid (its K border pairs' indices, 16
+    bytes each, its region graph, and ``region_shift.CHUNK`` gathers of C + 4 numbers)."""
     h, w, c = shape
     r = params["radius"]
     k = len(disk_offsets(r))
@@ -354,7 +399,9 @@ def _memory(shape, width, height, params):
     window = (h + 2 * margin) * (w + 2 * margin) * (c + 1) * 4 + h * w * 8 if windows else 0
     maps = width * height * (26 + 4 * c)
     chunk = _Level.CHUNK * (k + params["random_candidates"]) * (4 * k * (c + 1) + 16) * 2
-    return h * w * c * 4 + max(table, window) + maps + chunk + (8 << 20)
+    grids = _aligned(width, height, n_levels, windows).values()
+    align = max(grids) * (16 * k + 64) + region_shift.CHUNK * (c + 4) * 8 if grids else 0
+    return h * w * c * 4 + max(table, window) + maps + chunk + align + (8 << 20)
 
 
 def _cost(shape, width, height, params):
@@ -362,7 +409,10 @@ def _cost(shape, width, height, params):
     each level, each candidate's disk neighbourhood compared over C + 1 values (a refining
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
     its own coefficient, 1.35 times that for windows); the table of every table level;
-    the passes over the whole exemplar (centring, windows, the random start's draw). Fitted on
+    the passes over the whole exemplar (centring, windows, the random start's draw); per grid
+    pixel of an aligned level (``_aligned``), its K border pairs (0.6 s for a 256 x 256 grid
+    of the brick wall here under load 7, taken as half that quiet, times the 2.6 from this
+    machine's quiet runs to the reference). Fitted on
     64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
     18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
@@ -371,14 +421,22 @@ def _cost(shape, width, height, params):
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     units = refine_units = 0.0
+    align_units = k * sum(_aligned(width, height, n_levels, windows).values())
     for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
             refine_units += (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
                              * (1.35 if lv in windows else 1.0))
         else:
             units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
-    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units
+    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units + 4e-7 * align_units
             + 1.7e-8 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
+
+
+def _aligned(width, height, n_levels, windows):
+    """The levels whose copies slide into phase, {level: grid pixels}: those between the
+    coarsest and the finest, of at most ``ALIGN_PIXELS`` pixels, reading tables."""
+    return {lv: gh * gw for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels))
+            if 0 < lv < n_levels - 1 and gh * gw <= ALIGN_PIXELS and lv not in windows}
 
 
 METHOD = register(Method(

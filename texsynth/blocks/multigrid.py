@@ -13,6 +13,8 @@ pixels are visited, when, and how the grids follow one another:
 - Multigrid (fig. 9): level l is the output decimated by 2^l with coordinates kept at full
   resolution. The coarsest grid starts from random positions; a finished level's pixels seed
   the even pixels of the next finer one with confidence 0.5, the others start random at 0.
+- A caller may settle a finished level's map before it seeds the next (``settle``:
+  ``multiscale_mrf`` slides its copied regions into phase there).
 
 Deviations, one line each:
 - visits are made in batches: each batch is a random lattice of pixels r + 1 apart (so no pixel
@@ -76,7 +78,8 @@ def random_positions(shape, n, rng, pool=None, tick=None) -> np.ndarray:
 def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object], n: int, shapes,
                          visits: int | Callable[[int], int], rng: np.random.Generator,
                          progress: Progress,
-                         pool: Callable[[int], np.ndarray | None] | None = None) -> np.ndarray:
+                         pool: Callable[[int], np.ndarray | None] | None = None,
+                         settle: Callable[..., np.ndarray] | None = None) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
     coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
     call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
@@ -108,6 +111,9 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
         level = None  # the finer level's tables are built after the coarser one's are freed
         level = make_level(lv, building)
         relax(level, source, halves, t, rng, part, lv)
+        if settle is not None:
+            source = settle(lv, level, source, functools.partial(part, 1.0, f"level {lv}: "
+                                                                 "settling"))
     return source
 
 
