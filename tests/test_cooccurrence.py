@@ -339,3 +339,21 @@ def test_settling_clips_only_the_extremes_and_keeps_the_others():
     free = labels == 0
     out = co.within_neighbours(marks, free)
     assert np.array_equal(out[~free], marks[~free])
+
+
+def test_a_model_keeps_its_dither_correlation_and_reads_a_file_without_it(model, tmp_path):
+    """The within-level correlations are saved and reloaded; a file written before they were
+    kept loads with white dither (correlation 0)."""
+    assert all(0.0 <= c.correlation <= co.MAX_CORRELATION for c in model.channels)
+    assert any(c.correlation > 0 for c in model.channels)
+    path = tmp_path / "model.npz"
+    model.save(path)
+    again = co.Model.load(path)
+    assert [c.correlation for c in again.channels] == pytest.approx(
+        [c.correlation for c in model.channels], abs=1e-6)
+    with np.load(path) as data:
+        old = {k: data[k] for k in data.files if k != "correlations"}
+    np.savez_compressed(tmp_path / "old.npz", **old)
+    older = co.Model.load(tmp_path / "old.npz")
+    assert all(c.correlation == 0.0 for c in older.channels)
+    assert older.synthesize(24, 20, seed=4).shape == (20, 24, 3)
