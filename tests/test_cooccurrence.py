@@ -311,36 +311,6 @@ def test_a_grey_photo_s_faint_tint_is_as_smooth_in_the_output_as_in_the_photo():
     assert 0.8 < ratio < 1.25
 
 
-@pytest.mark.parametrize("seed", [1, 2])
-def test_a_synthesis_from_noise_leaves_few_isolated_pixels(seed):
-    """Relaxed from noise, then settled (co.settle): on smooth noise (none of whose pixels lies
-    half its interquartile range beyond all 8 neighbours) at most 0.6% of the output does so;
-    unsettled, 1.0-1.3% did, and a half-size synthesis upsampled grew each into a 2 x 2 block
-    (the blocky grain of production sizes)."""
-    photo = smooth_noise((64, 64), seed=3, sigma=2.0)
-    out = texsynth.synthesize(photo, 64, 64, method="cooccurrence", seed=seed, **FAST)
-    assert isolated(photo, half_iqr(photo)) == 0
-    assert isolated(out, half_iqr(photo)) < 0.006
-
-
-def test_settling_clips_only_the_extremes_and_keeps_the_others():
-    """within_neighbours moves a pixel beyond all its neighbours to the nearer end of their
-    range and leaves every other pixel, and a composite class's pixels see only their class."""
-    rng = np.random.default_rng(0)
-    marks = rng.integers(0, 8, (16, 16))
-    out = co.within_neighbours(marks)
-    ring = np.stack([np.roll(marks, (dy, dx), (0, 1)) for dy in (-1, 0, 1)
-                     for dx in (-1, 0, 1) if dy or dx])
-    inside = (marks >= ring.min(axis=0)) & (marks <= ring.max(axis=0))
-    assert np.array_equal(out[inside], marks[inside])
-    assert np.array_equal(out[~inside], np.clip(marks, ring.min(axis=0), ring.max(axis=0))[~inside])
-    labels = np.zeros((16, 16), int)
-    labels[:, 8:] = 1
-    free = labels == 0
-    out = co.within_neighbours(marks, free)
-    assert np.array_equal(out[~free], marks[~free])
-
-
 def test_a_model_keeps_its_dither_correlation_and_reads_a_file_without_it(model, tmp_path):
     """The within-level correlations are saved and reloaded; a file written before they were
     kept loads with white dither (correlation 0)."""

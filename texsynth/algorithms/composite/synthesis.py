@@ -51,9 +51,9 @@ Deviations, one line each:
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
   filled at half size (exemplar, labels and output labels halved), upsampled class by class,
   and relaxed from there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise, by
-  proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``); a region filled
-  from noise is settled (``cooccurrence.model.settle``), and each component's dither keeps the
-  exemplar's correlation within a level (``cooccurrence.model.residual_correlation``).
+  proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``); each
+  component's dither keeps the exemplar's correlation within a level
+  (``cooccurrence.model.residual_correlation``).
 """
 
 from __future__ import annotations
@@ -405,18 +405,12 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                 synth[region] = co.quantize(initial[:, :, k][region], lo[k],
                                             lo[k] + g * width, g)
             part(0.4, "starting the synthesis")
-            terms = [candidates[c] for c in chosen]
-            relax = Relaxation(synth, levels_k, singleton, terms,
+            relax = Relaxation(synth, levels_k, singleton, [candidates[c] for c in chosen],
                                out_labels, n, co.STEP if initial is None else 1,
                                lambda part=part: part(0.4, "counting cliques"),
                                bounded=initial is not None)
-            if initial is None:  # from noise: settled (cooccurrence.model.settle)
-                relax.run(sweeps, rng, part.span(0.4, 0.9), f"component {k + 1}, class {n}: ")
-                synth = co.settle(relax.image, levels_k, singleton, terms, rng, out_labels, n,
-                                  part.span(0.9, 1.0))
-            else:
-                relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
-                synth = relax.image
+            relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
+            synth = relax.image
         values = heads(comp, rows)[..., k]
         centres, spreads = co.level_statistics(values, marks_heads, lo[k], lo[k] + g * width, g)
         out[:, :, k] = co.dither(synth, centres, spreads, rng,

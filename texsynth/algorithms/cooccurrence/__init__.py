@@ -14,9 +14,6 @@ Deviation (production sizes, multiresolution relaxation): an output of more than
 scales, the fine sweeps restore the fine-scale statistics, by proposals of one level's step or
 from the singleton target, each clipped to the range of the pixel's 8 neighbours
 (``model.synthesize_channel``: unbounded ones left isolated extreme pixels, salt and pepper).
-The coarsest level, relaxed from noise, is settled the same way (``model.settle``): its
-isolated extremes, which the upsampling would grow into 2 x 2 blocks, are clipped to their
-neighbours' range before bounded sweeps.
 """
 
 from __future__ import annotations
@@ -88,13 +85,12 @@ def upsample_half(coarse: np.ndarray, height: int, width: int, tick) -> np.ndarr
 
 def _cost(shape, width, height, params):
     """The model's cost (fit and synthesis, ``model.cost``) at every level of the
-    multiresolution relaxation: ``REFINE_SWEEPS`` above ``COARSE_PIXELS``, ``sweeps`` and the
-    settling sweeps at the coarsest level."""
+    multiresolution relaxation: ``REFINE_SWEEPS`` above ``COARSE_PIXELS``, ``sweeps`` at the
+    coarsest level."""
     total = 0.0
     while width * height > COARSE_PIXELS and min(shape[:2]) >= 32:
         total += model_cost(shape, width, height,
-                            {**params, "sweeps": min(params["sweeps"], REFINE_SWEEPS)},
-                            settled=False)
+                            {**params, "sweeps": min(params["sweeps"], REFINE_SWEEPS)})
         shape = (shape[0] // 2, shape[1] // 2, shape[2])
         width, height = -(-width // 2), -(-height // 2)
     return total + model_cost(shape, width, height, params)

@@ -37,11 +37,6 @@ Deviations, one line each:
   within-level variation is pixel noise, 0.4-0.9 for the weak ones, which vary smoothly
   within their few levels): white, it made the weak components' mean gradient 2.8-3.5 times
   the photo's (a fine colour grain, yellow and pink specks on the setts photo), now 1.1-2.1;
-- a synthesis from noise is settled (:func:`settle`): the pixels the zero-temperature sweeps
-  leave beyond all their neighbours are clipped to their range and ``SETTLE_SWEEPS`` bounded
-  sweeps follow (the paper's reference [13] is not at hand; the isolated extremes are our
-  sampler's, and a half-size synthesis upsampled grows each into a 2 x 2 block: the blocky
-  grain of production sizes);
 - the singleton histogram is always in the model (the paper lets step 5 select it like a type);
 - step 6 continues from the previous working image (warm start) for ``selection_sweeps``
   sweeps instead of restarting from noise;
@@ -87,7 +82,7 @@ from .cliques import (
 
 __all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
            "label_levels", "level_statistics", "residual_correlation", "dither",
-           "principal_components", "within_neighbours", "settle", "FORMAT", "PARAMS"]
+           "principal_components", "FORMAT", "PARAMS"]
 
 FORMAT = "texsynth-cooccurrence-1"
 MAX_OFFSET = 8
@@ -101,8 +96,6 @@ SELECTION_SWEEPS = 6
 WHITE = 0.05
 #: The most lag-one correlation a dither is given (a Gaussian of sigma 2.2).
 MAX_CORRELATION = 0.95
-#: Bounded sweeps that settle a relaxation from noise (:func:`settle`).
-SETTLE_SWEEPS = 3
 #: Half-width (in levels) of the local proposals for grey levels.
 STEP = 3
 #: Clique types counted in the exemplar between two progress reports.
@@ -596,52 +589,6 @@ def fit_labels(labels: np.ndarray, classes: int, *, seed: int | np.random.Genera
                  one * (classes - 1), (channel,), {"labels": classes})
 
 
-def within_neighbours(marks: np.ndarray, free: np.ndarray | None = None) -> np.ndarray:
-    """``marks`` (H, W, grey levels, periodic) with every pixel beyond the range of its 8
-    neighbours set to the nearer end of that range: the smallest change after which no pixel
-    is a strict local extreme. With ``free`` (bool (H, W)): only free pixels change, and only
-    their free neighbours count (a composite's class).
-
-    Examples
-    --------
-    >>> marks = np.full((5, 5), 3); marks[2, 2] = 9; marks[0, 0] = 4
-    >>> out = within_neighbours(marks)
-    >>> int(out[2, 2]), int(out[0, 0]), int(out[1, 1])
-    (3, 3, 3)
-    """
-    marks = np.asarray(marks)
-    free = np.ones(marks.shape, bool) if free is None else np.asarray(free, bool)
-    big = np.iinfo(np.int32).max
-    low = np.full(marks.shape, big, np.int64)
-    high = np.full(marks.shape, -big, np.int64)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            if dy or dx:
-                near = np.roll(marks, (dy, dx), axis=(0, 1))
-                counts = np.roll(free, (dy, dx), axis=(0, 1))
-                low = np.where(counts, np.minimum(low, near), low)
-                high = np.where(counts, np.maximum(high, near), high)
-    clipped = np.clip(marks, low, np.maximum(low, high))
-    return np.where(free & (high >= low), clipped, marks).astype(marks.dtype)
-
-
-def settle(marks: np.ndarray, levels: np.ndarray, singleton: np.ndarray, terms, rng,
-           labels: np.ndarray | None = None, free_class: int = 0,
-           progress: Progress | None = None) -> np.ndarray:
-    """The grey-level marks of a relaxation from noise without its salt and pepper: the
-    pixels left beyond all their neighbours (:func:`within_neighbours`), then ``SETTLE_SWEEPS``
-    sweeps of steps of one level bounded by the neighbours, which give the histograms back
-    what the clipping took and cannot make a pixel an extreme again (``Relaxation``'s
-    ``bounded``). Zero-temperature sweeps from noise leave isolated extremes that no random
-    proposal removes (the singleton histogram holds them); upsampled, each is a 2 x 2 block
-    (on the setts photo, 2.7 times the photo's share of 2 x 2 blocks a tenth of the range
-    darker or lighter than all around)."""
-    free = None if labels is None else labels == free_class
-    relax = Relaxation(within_neighbours(marks, free), levels, singleton, terms, labels,
-                       free_class, step=1, bounded=True)
-    relax.run(SETTLE_SWEEPS, rng, progress)
-    return relax.image
-
 
 def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
                        sweeps: int = SWEEPS, progress: Progress | None = None,
@@ -659,15 +606,11 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
     given = start
     if start is None:
         start = rng.choice(channel.levels, size=shape, p=p / p.sum())
-    settling = given is None and not channel.categorical
     relax = Relaxation(start, channel.levels, p, channel.terms(),
                        step=0 if channel.categorical else STEP if given is None else 1,
                        tick=lambda: progress(0.0, "counting the clique histograms"),
                        bounded=given is not None)
-    relax.run(sweeps, rng, progress.span(0.0, 0.9) if settling else progress)
-    if settling:
-        return settle(relax.image, channel.levels, p, channel.terms(), rng,
-                      progress=progress.span(0.9, 1.0))
+    relax.run(sweeps, rng, progress)
     return relax.image
 
 
@@ -731,12 +674,11 @@ def sampled_pixels(shape, max_offset: int) -> int:
     return h * w if h * w <= ANCHORS or count >= h - m else count * (m + 1) * w
 
 
-def cost(shape, width, height, params, settled=True):
+def cost(shape, width, height, params):
     """Exemplar statistics: the clique histograms of every candidate type on at most
     ``ANCHORS`` heads and the colour work on the sampled strips; selection: a round of sweeps
     over the selection torus per selected type and colour component; synthesis: ``sweeps``
-    over the output with every selected type from both ends, and ``SETTLE_SWEEPS`` more when
-    ``settled`` (a synthesis from noise, :func:`settle`). Selection stops at the
+    over the output with every selected type from both ends. Selection stops at the
     threshold, after about ``TYPICAL_TYPES`` types on natural textures (measured:
     ``max_cliques`` 20 and 40 take about the same time)."""
     h, w, c = shape
@@ -745,8 +687,8 @@ def cost(shape, width, height, params, settled=True):
     selection = c * t * SELECTION_SWEEPS * torus
     statistics = c * (1.5e-7 * min(h * w, ANCHORS)
                       + 1e-7 * sampled_pixels(shape, params["max_offset"]))
-    sweeps = params["sweeps"] + (SETTLE_SWEEPS if settled else 0)
-    return 0.05 + statistics + 2.3e-6 * selection + synthesis_cost(c, t, width, height, sweeps)
+    return 0.05 + statistics + 2.3e-6 * selection + synthesis_cost(c, t, width, height,
+                                                                   params["sweeps"])
 
 
 def synthesis_cost(channels, types, width, height, sweeps):
