@@ -51,7 +51,9 @@ Deviations, one line each:
   ``fill="cooccurrence"`` and more than ``COARSE_PIXELS`` output pixels, the regions are first
   filled at half size (exemplar, labels and output labels halved), upsampled class by class,
   and relaxed from there for ``REFINE_SWEEPS`` sweeps instead of ``sweeps`` from noise, by
-  proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``).
+  proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``); each
+  component's dither keeps the exemplar's correlation within a level
+  (``cooccurrence.model.residual_correlation``).
 """
 
 from __future__ import annotations
@@ -409,9 +411,10 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
                                bounded=initial is not None)
             relax.run(sweeps, rng, part.span(0.4, 1.0), f"component {k + 1}, class {n}: ")
             synth = relax.image
-        centres, spreads = co.level_statistics(heads(comp, rows)[..., k], marks_heads, lo[k],
-                                               lo[k] + g * width, g)
-        out[:, :, k] = co.dither(synth, centres, spreads, rng)
+        values = heads(comp, rows)[..., k]
+        centres, spreads = co.level_statistics(values, marks_heads, lo[k], lo[k] + g * width, g)
+        out[:, :, k] = co.dither(synth, centres, spreads, rng,
+                                 co.residual_correlation(values, marks_heads, centres))
     return np.clip(pca.inverse(out), x.min(axis=(0, 1)), x.max(axis=(0, 1)))
 
 
