@@ -7,8 +7,12 @@ lines), and a camera at a random slant in [0, 70) degrees, random azimuth and ro
 tilt), orthographic or a 35 / 50 mm lens on a 36 mm sensor. The slant and tilt are computed from
 the camera's world matrix and the plane's normal, independently of ``texsynth.plane``.
 
+Views are 320 x 256 pixels unless made larger by :meth:`View.enlarged` (the same scene at a
+phone's resolution: 1600 x 1280 took 10-40 s a view on one core of a loaded machine, 320 x
+256 about 1 s).
 Renders are cached as 8-bit PNG (a photo's encoding) with a JSON sidecar under
-``benchmarks/.cache/plane_renders`` (gitignored); a view is re-rendered when its parameters change.
+``benchmarks/.cache/plane_renders`` (gitignored), keyed by every parameter and the size; a view
+is re-rendered when they change.
 """
 
 from __future__ import annotations
