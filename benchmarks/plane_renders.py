@@ -7,8 +7,12 @@ lines), and a camera at a random slant in [0, 70) degrees, random azimuth and ro
 tilt), orthographic or a 35 / 50 mm lens on a 36 mm sensor. The slant and tilt are computed from
 the camera's world matrix and the plane's normal, independently of ``texsynth.plane``.
 
+Views are 320 x 256 pixels unless made larger by :meth:`View.enlarged` (the same scene at a
+phone's resolution: 1600 x 1280 took 10-40 s a view on one core of a loaded machine, 320 x
+256 about 1 s).
 Renders are cached as 8-bit PNG (a photo's encoding) with a JSON sidecar under
-``benchmarks/.cache/plane_renders`` (gitignored); a view is re-rendered when its parameters change.
+``benchmarks/.cache/plane_renders`` (gitignored), keyed by every parameter and the size; a view
+is re-rendered when they change.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +57,8 @@ class View:
     offset: tuple[float, float]  # texture offset (tiles)
     slant: float = 0.0
     tilt: float = 0.0
+    width: int = WIDTH     # the render's size (pixels)
+    height: int = HEIGHT
 
     @property
     def lens_mm(self) -> float | None:
@@ -61,11 +67,23 @@ class View:
     @property
     def focal_px(self) -> float | None:
         lens = self.lens_mm
-        return None if lens is None else focal_px_from_lens(lens, SENSOR_MM, WIDTH, HEIGHT)
+        return None if lens is None else focal_px_from_lens(lens, SENSOR_MM, self.width,
+                                                            self.height)
 
     def key(self) -> str:
-        text = json.dumps([asdict(self), WIDTH, HEIGHT, SAMPLES, PLANE_HALF], sort_keys=True)
+        fields = asdict(self)
+        size = fields.pop("width"), fields.pop("height")
+        text = json.dumps([fields, *size, SAMPLES, PLANE_HALF], sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:12]
+
+    def enlarged(self, scale: int, texture: str, texture_scale: float = 1.0) -> View:
+        """The same scene rendered at ``scale`` times the size: the camera, plane and texture
+        unchanged, a texel on the plane the same fraction of the frame. ``texture`` names the
+        texture as it is rendered, ``texture_scale`` times as many pixels across as this view's
+        (a photo at a higher resolution), so each of its pixels covers ``scale /
+        texture_scale`` times this view's ``texel_px`` screen pixels."""
+        return replace(self, texture=texture, texel_px=self.texel_px * scale / texture_scale,
+                       width=self.width * scale, height=self.height * scale)
 
 
 def camera_rotation(elevation: float, azimuth: float, roll: float) -> np.ndarray:
@@ -108,11 +126,11 @@ def make_views(textures, per_texture: int, seed: int = 6) -> list[View]:
 
 def render_views(views: list[View], textures: dict[str, np.ndarray], threads: int = 1,
                  progress=None) -> list[np.ndarray]:
-    """The rendered images (float32 (HEIGHT, WIDTH, 3)), from the cache when present."""
+    """The rendered images (float32 (height, width, 3)), from the cache when present."""
     CACHE.mkdir(parents=True, exist_ok=True)
     missing = [v for v in views if not (CACHE / f"{v.key()}.png").exists()]
-    if missing:
-        _render(missing, textures, threads, progress)
+    for size in sorted({(v.width, v.height) for v in missing}):
+        _render([v for v in missing if (v.width, v.height) == size], textures, threads, progress)
     return [read_png(CACHE / f"{v.key()}.png")[:, :, :3] for v in views]
 
 
@@ -120,7 +138,7 @@ def _render(views, textures, threads, progress) -> None:
     import bpy
     from mathutils import Matrix
 
-    scene = cpu_scene(SAMPLES, WIDTH, HEIGHT, threads)
+    scene = cpu_scene(SAMPLES, views[0].width, views[0].height, threads)
     scene.cycles.use_adaptive_sampling = False
     scene.cycles.max_bounces = 0
     scene.render.image_settings.file_format = "PNG"
@@ -184,7 +202,7 @@ def _render(views, textures, threads, progress) -> None:
         if view.lens_mm is None:
             camera_data.type = "ORTHO"
             camera_data.ortho_scale = DISTANCE * SENSOR_MM / 35.0
-            units_per_px = camera_data.ortho_scale / max(WIDTH, HEIGHT)
+            units_per_px = camera_data.ortho_scale / max(view.width, view.height)
         else:
             camera_data.type = "PERSP"
             camera_data.lens = view.lens_mm

@@ -43,6 +43,37 @@ TEXTURE_SIDE = 1024       # real photos are block-averaged to this side before r
 #: wall's coping above and ground below would repeat as bands across the plane).
 SURFACE = {"ufoai-textures/brick_wall.png": slice(60, 980)}
 COVER_80 = math.sqrt(math.log(5.0))  # e <= 1.27 s on 80 % of views for Gaussian errors
+#: The phone set renders the real-photo views at this many times plane_renders' 320 x 256
+#: (1600 x 1280, 2 MP; the line detector reads a 12 MP photo's 4032 x 3024 at 1008 x 756 and
+#: this at 800 x 640), from the full-resolution photos.
+PHONE_SCALE = 5
+
+
+PHONE = f"real photos, {plane_renders.WIDTH * PHONE_SCALE} x {plane_renders.HEIGHT * PHONE_SCALE}"
+
+
+def _phone_note(views, phone) -> str:
+    """What the phone set is, and how much it magnifies the photos."""
+    pixels = {v.texture: [] for v in phone}  # photo pixels per screen pixel at the plane origin
+    for v in phone:
+        pixels[v.texture].append(1.0 / v.texel_px)
+    ranges = "; ".join(f"{name.split('@')[0].split('/')[-1]} {min(p):.2f}-{max(p):.2f}"
+                       for name, p in pixels.items())
+    return (f"**Phone set**: the real-photo views again, same cameras and scenes, rendered at "
+            f"{phone[0].width} x {phone[0].height} ({PHONE_SCALE} x the {views[0].width} x "
+            f"{views[0].height} views; a 12 MP photo is read by the line detector at 1008 x "
+            f"756, this at 800 x 640) from the full photos (the setts at 2048 px). Photo pixels "
+            f"per screen pixel at the plane's origin: {ranges}. Under 1 is a magnified photo: "
+            "its joints are softer than a phone photo of the same scene would show them.")
+
+
+def _phone_views(views, photos, real) -> tuple[list, dict]:
+    """The same scenes as ``views`` at PHONE_SCALE times the resolution, the texture rendered from
+    the full photo (its surface rows), and those textures by name."""
+    full = {f"{name}@full": photo[SURFACE.get(name, slice(None))] for name, photo in photos.items()}
+    return [v.enlarged(PHONE_SCALE, f"{v.texture}@full",
+                       full[f"{v.texture}@full"].shape[1] / real[v.texture].shape[1])
+            for v in views], full
 
 
 def _phone_focal(image) -> float:
@@ -101,14 +132,15 @@ def run(ctx) -> str:
     real = {name: _reduced(image[SURFACE.get(name, slice(None))])
             for name, image in photos.items()}
     views_real = plane_renders.make_views(list(real), 4 if ctx.quick else 8, seed=27)
+    views_phone, full = _phone_views(views_real, photos, real)
     # Subsets of the plane section's own views (same draws, so the same cached renders).
     views_shared = plane_renders.make_views(list(shared), 2)[::3]  # both projections
     views_made = plane_renders.make_views(list(made), 3 if ctx.quick else 6, seed=16)[::2]
-    families = {"real photos": views_real, "shared textures": views_shared,
+    families = {"real photos": views_real, PHONE: views_phone, "shared textures": views_shared,
                 "man-made (procedural)": views_made}
     everything = [v for views in families.values() for v in views]
     rendered = dict(zip([v.key() for v in everything], plane_renders.render_views(
-        everything, {**shared, **made, **real}), strict=True))
+        everything, {**shared, **made, **real, **full}), strict=True))
     render_s = time.perf_counter() - start
 
     scores = defaultdict(list)  # (family, condition) -> [(view, score)]
@@ -119,8 +151,10 @@ def run(ctx) -> str:
             calls = {"ortho": None} if view.focal_px is None else {
                 "exif": plane.focal_px_from_file(_exif_jpeg(view, photo)), "unknown": None}
             for condition, focal in calls.items():
+                tic = time.process_time()
+                result = plane.estimate_plane(photo, focal_px=focal)
                 scores[family, condition].append(
-                    (view, _score(view, plane.estimate_plane(photo, focal_px=focal))))
+                    (view, {**_score(view, result), "cpu": time.process_time() - tic}))
             if family == "shared textures":
                 continue
             for quality in QUALITIES:
@@ -133,28 +167,36 @@ def run(ctx) -> str:
     lines = [f"Real photos: {', '.join(REAL)} (shared large photos, reduced to "
              f"{TEXTURE_SIDE} px for rendering; the brick wall's coping and ground rows cut "
              f"off there). {len(everything)} views rendered or read from "
-             f"the cache in {render_s:.0f} s: {len(views_real)} of the real photos, "
-             f"{len(views_shared)} of the shared textures and {len(views_made)} procedural "
-             "man-made ones (every 3rd and every 2nd view of the plane section).", ""]
+             f"the cache in {render_s:.0f} s: {len(views_real)} of the real photos at "
+             f"{plane_renders.WIDTH} x {plane_renders.HEIGHT}, the same {len(views_phone)} at "
+             f"phone resolution, {len(views_shared)} of the shared textures and "
+             f"{len(views_made)} procedural man-made ones (every 3rd and every 2nd view of the "
+             "plane section).", "", _phone_note(views_real, views_phone), ""]
     lines += _frontal(photos)
 
-    lines += ["", "**Rendered views of real photos**, slant >= 20 deg (goals: median normal "
-              "error <= 2 deg with the focal length from EXIF, <= 4 deg with it unknown):", "",
-              "| condition | views | median | p90 | within 5 deg | line families (median) |",
-              "|---|---:|---:|---:|---:|---:|"]
+    lines += ["", "**Rendered views of real photos**, slant >= 20 deg (goals, at phone "
+              "resolution: median normal error <= 2 deg with the focal length from EXIF, <= 4 "
+              f"deg with it unknown; {plane_renders.WIDTH} x {plane_renders.HEIGHT} is a "
+              "low-resolution condition), and CPU seconds per estimate:", "",
+              "| condition | views | median | p90 | within 5 deg | line families (median) "
+              "| CPU s (median) |", "|---|---:|---:|---:|---:|---:|---:|"]
     for condition in ("exif", "unknown", "ortho"):
-        got = [s for v, s in scores["real photos", condition] if v.slant >= 20]
-        if got:
+        for family in ("real photos", PHONE):
+            got = [s for v, s in scores[family, condition] if v.slant >= 20]
+            if not got:
+                continue
+            size = f"{families[family][0].width} x {families[family][0].height}"
             e = np.array([s["error"] for s in got])
-            lines.append(f"| {condition} | {len(e)} | {np.median(e):.1f} | "
+            lines.append(f"| {condition}, {size} | {len(e)} | {np.median(e):.1f} | "
                          f"{np.percentile(e, 90):.1f} | {np.mean(e <= 5) * 100:.0f} % | "
-                         f"{np.median([s['families'] for s in got]):.0f} |")
+                         f"{np.median([s['families'] for s in got]):.0f} | "
+                         f"{np.median([s['cpu'] for s in got]):.2f} |")
 
     lines += ["", "**JPEG views** (Pillow, focal length unknown; goal: no refusal at quality "
               "70 to 95). Median normal error at slant >= 20 deg beside the PNG render's:", "",
               "| family | PNG | " + " | ".join(f"JPEG q{q}" for q in QUALITIES) + " | refused |",
               "|---|---:|" + "---:|" * len(QUALITIES) + "---:|"]
-    for family in ("real photos", "man-made (procedural)"):
+    for family in ("real photos", PHONE, "man-made (procedural)"):
         views = families[family]
         steep = [i for i, v in enumerate(views) if v.slant >= 20]
         png = {v.key(): s["error"] for cond in ("unknown", "ortho")

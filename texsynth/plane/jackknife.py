@@ -26,30 +26,12 @@ import math
 
 import numpy as np
 
-from .lines import Segments, weighted_lines
+from .lines import Segments, distinct_lines, weighted_lines
 
 __all__ = ["line_inflation"]
 
-_SAME_LINE = 3.0     # pixels: segments whose lines through the vanishing point pass this close
-#                      to each other at the image centre are one line (a joint's two sides, its
-#                      broken pieces)
 _MIN_LINES = 3       # fewer lines leave the vanishing point's variance unmeasured
 _UNMEASURED = 1e4    # ... and then its noise is widened by this much (its direction still counts)
-
-
-def _lines_of(family: Segments, vp: np.ndarray, side: float) -> np.ndarray:
-    """Labels of the distinct lines: segments sorted by where their line through the vanishing
-    point ``vp`` (homogeneous, pixels / ``side``) passes the image centre, split at gaps over
-    ``_SAME_LINE`` pixels."""
-    points = np.concatenate([family.m / side, np.ones((len(family), 1))], axis=1)
-    through = np.cross(np.broadcast_to(vp, points.shape), points)
-    through /= np.linalg.norm(through[:, :2], axis=1, keepdims=True)
-    through *= np.sign(through[:, :2] @ through[int(np.argmax(family.weight)), :2])[:, None]
-    offset = through[:, 2] * side
-    order = np.argsort(offset)
-    labels = np.empty(len(family), np.intp)
-    labels[order] = np.concatenate([[0], np.cumsum(np.diff(offset[order]) > _SAME_LINE)])
-    return labels
 
 
 def _summary_jacobian(x: np.ndarray) -> np.ndarray:
@@ -125,7 +107,7 @@ def line_inflation(family: Segments, side: float) -> float:
     """
     lines = weighted_lines(family, side)
     vp = np.linalg.svd(lines, full_matrices=False)[2][-1]
-    labels = _lines_of(family, vp, side)
+    labels = distinct_lines(family, vp, side)
     if labels.max() + 1 < _MIN_LINES:
         return _UNMEASURED
 

@@ -43,7 +43,7 @@ from .geometry import jacobians
 from .spectra import downsample
 
 __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families", "vanishing_point",
-           "horizon_through", "spaced_horizon", "LineCost"]
+           "horizon_through", "spaced_horizon", "distinct_lines", "LineCost"]
 
 _BINS = 16            # gradient direction bins over [0, 2 pi): 22.5 degrees, polarity kept
 _LINE_BINS = 8        # line direction bins over [0, pi): 22.5 degrees (dark and bright alike)
@@ -68,6 +68,12 @@ _SPACED_Z = 12.0     # Rayleigh statistic an equal spacing needs (measured on th
 _ROBUST = 3.0         # standardised residual beyond which the loss turns logarithmic
 _JOIN_PX = 1.5       # how far (fine pixels) a segment may lie off another's line to be joined to it
 _JOIN_ROWS = 256     # segments compared with all others at a time when joining
+_SAME_LINE = 3.0     # pixels: segments whose lines through the vanishing point pass this close
+#                      to each other at the image centre are one line (a joint's two sides, its
+#                      broken pieces)
+_SPACED_LINES = 5    # distinct lines an equal spacing needs: three are equally spaced under some
+#                      horizon whatever their offsets (two gaps, one free position of the
+#                      horizon), and the period and its phase take two more
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
 _RIDGE_SIDE = 1024    # ... their centre lines at up to this side (a brick wall's head joints, 20-30
@@ -553,6 +559,51 @@ def vanishing_point(family: Segments, side: float) -> np.ndarray | None:
     return vp[:2] / vp[2] * side
 
 
+def distinct_lines(family: Segments, vp: np.ndarray, side: float) -> np.ndarray:
+    """Labels of the family's distinct lines: the pieces of a broken joint and its two sides
+    are one line, and they share its position and its wander.
+
+    Parameters
+    ----------
+    family : Segments
+        One family, centred y-up analysis pixels.
+    vp : array (3,)
+        Its vanishing point, homogeneous in pixels / ``side`` (:func:`weighted_lines`).
+    side : float
+        The analysis image's longer side (pixels).
+
+    Returns
+    -------
+    array of int (N,)
+        0, 1, ... by where each segment's line through ``vp`` passes the image centre; a new
+        label at each gap over ``_SAME_LINE`` pixels.
+
+    References
+    ----------
+    Burns, Hanson & Riseman 1986, "Extracting straight lines", sec. VI (segments grouped into
+    lines).
+
+    Examples
+    --------
+    Three horizontal joints (y = -40, 0, 40), each found as two pieces, one of them as its two
+    sides 2 pixels apart; the vanishing point is at infinity along x:
+
+    >>> m = np.array([[-50, -40], [50, -40], [-50, 0], [50, 0], [-50, 39], [-50, 41.0]])
+    >>> family = Segments(m, np.tile([1.0, 0.0], (6, 1)), np.full(6, 60.0))
+    >>> distinct_lines(family, np.array([1.0, 0.0, 0.0]), 320.0).tolist()
+    [0, 0, 1, 1, 2, 2]
+    """
+    points = np.concatenate([family.m / side, np.ones((len(family), 1))], axis=1)
+    through = np.cross(np.broadcast_to(vp, points.shape), points)
+    through /= np.linalg.norm(through[:, :2], axis=1, keepdims=True)
+    through *= np.sign(through[:, :2] @ through[int(np.argmax(family.weight)), :2])[:, None]
+    offset = through[:, 2] * side
+    order = np.argsort(offset)
+    labels = np.empty(len(family), np.intp)
+    labels[order] = np.concatenate([[0], np.cumsum(np.diff(offset[order]) > _SAME_LINE)])
+    return labels
+
+
 def horizon_through(family: Segments, side: float) -> np.ndarray:
     """The family's vanishing point as a constraint on the vanishing line v: (a, c) with
     a . v = c (a unit vector): every plane whose lines of this direction appear as the family
@@ -572,8 +623,14 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     Under v, the plane offset across the family of an image point x is o = (m . x) / (1 - v . x)
     up to scale, m normal to the direction of the vanishing point; o is periodic in equally
     spaced lines (z: the Rayleigh statistic of the best period), and a wrong v chirps the period
-    across the image.
+    across the image. A family of fewer than ``_SPACED_LINES`` distinct lines
+    (:func:`distinct_lines`) has no spacing to test: its pieces share their line's offset, so
+    a joint broken into ten pieces would count as ten equally spaced ones (a phone photo of
+    three paver joints, found as 29 pieces, passed the test at a wrong horizon).
     """
+    vp = np.linalg.svd(weighted_lines(family, side), full_matrices=False)[2][-1]
+    if distinct_lines(family, vp, side).max(initial=-1) + 1 < _SPACED_LINES:
+        return None
     a, c = constraint[:2], float(constraint[2])
     across = np.array([-a[1], a[0]])
     vp_dir = np.linalg.svd(_lines(family, side) * np.sqrt(family.length)[:, None],
