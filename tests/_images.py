@@ -52,3 +52,22 @@ def half_iqr(image):
     """Half the interquartile range of an image's luminance."""
     return 0.5 * float(np.subtract(*np.percentile(luminance(image), [75, 25])))
 
+
+
+
+def running_bond(shape, seed, course, brick, joint, tint, shade, grain, mortar, speckle):
+    """A wall laid in running bond: courses ``course`` px tall of bricks ``brick`` px long, each
+    course shifted half a brick, joints ``joint`` px wide. Each brick is ``tint`` (RGB) times
+    its own shade, uniform in ``shade`` (low, width), plus smooth grain of amplitude ``grain``;
+    each joint pixel ``mortar`` (RGB) plus uniform noise up to ``speckle``. Returns the image
+    and the mask of the joints."""
+    rng = np.random.default_rng(seed)
+    i, j = np.mgrid[:shape[0], :shape[1]]
+    row = i // course
+    along = j + brick // 2 * (row % 2)
+    grey = shade[0] + shade[1] * rng.random((row.max() + 1, (along // brick).max() + 1))
+    img = grey[row, along // brick][:, :, None] * np.asarray(tint, np.float32)
+    img = img + grain * (smooth_noise(shape, seed, sigma=1.0, channels=3) - 0.5)
+    joints = (i % course < joint) | (along % brick < joint)
+    img[joints] = np.asarray(mortar) + speckle * rng.random((joints.sum(), 1))
+    return img.astype(np.float32), joints

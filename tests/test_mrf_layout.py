@@ -6,7 +6,7 @@ from scipy import ndimage
 
 import texsynth
 
-from _images import smooth_noise
+from _images import running_bond
 
 BLOCK, PERIOD = 13, 16  # blocks 13 px square, 3 px joints
 
@@ -14,16 +14,9 @@ BLOCK, PERIOD = 13, 16  # blocks 13 px square, 3 px joints
 def blocks(shape=(96, 96), seed=0):
     """Rows of grey blocks 13 px square on a 16 px period, every other row offset by half a
     block, dark green joints, each block its own grey with grain; and the block mask."""
-    rng = np.random.default_rng(seed)
-    i, j = np.mgrid[:shape[0], :shape[1]]
-    row = i // PERIOD
-    col = (j + PERIOD // 2 * (row % 2)) // PERIOD
-    grey = 0.45 + 0.25 * rng.random((row.max() + 1, col.max() + 1))
-    img = grey[row, col][:, :, None] * np.array([1.0, 0.97, 0.92], np.float32)
-    img = img + 0.12 * (smooth_noise(shape, seed, sigma=1.0, channels=3) - 0.5)
-    joint = (i % PERIOD < 3) | ((j + PERIOD // 2 * (row % 2)) % PERIOD < 3)
-    img[joint] = np.array([0.2, 0.3, 0.12]) + 0.05 * rng.random((joint.sum(), 1))
-    return img.astype(np.float32), ~joint
+    img, joint = running_bond(shape, seed, PERIOD, PERIOD, PERIOD - BLOCK, (1.0, 0.97, 0.92),
+                              (0.45, 0.25), 0.12, (0.2, 0.3, 0.12), 0.05)
+    return img, ~joint
 
 
 def broken_share(block_mask):

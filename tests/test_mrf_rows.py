@@ -8,29 +8,21 @@ import texsynth
 from texsynth.algorithms import multiscale_mrf as method
 from texsynth.metrics import course_steps
 
-from _images import smooth_noise
+from _images import running_bond
 
 COURSE, BRICK, MORTAR = 12, 28, 2  # course height, brick length, mortar thickness (pixels)
 STRIP = 16  # column strips whose bed joints are compared
 
 
-def running_bond(shape=(120, 120), seed=0):
+def wall(seed=0):
     """Courses 12 px tall of bricks 28 px long, each course shifted half a brick, 2 px dark
-    mortar, each brick its own red with grain."""
-    rng = np.random.default_rng(seed)
-    i, j = np.mgrid[:shape[0], :shape[1]]
-    course = i // COURSE
-    brick = (j + BRICK // 2 * (course % 2)) // BRICK
-    shade = 0.5 + 0.3 * rng.random((course.max() + 1, brick.max() + 1))
-    img = shade[course, brick][:, :, None] * np.array([0.95, 0.55, 0.45], np.float32)
-    img = img + 0.1 * (smooth_noise(shape, seed, sigma=1.0, channels=3) - 0.5)
-    mortar = (i % COURSE < MORTAR) | ((j + BRICK // 2 * (course % 2)) % BRICK < MORTAR)
-    img[mortar] = 0.12 + 0.04 * rng.random((mortar.sum(), 1))
-    return img.astype(np.float32)
+    mortar, each brick its own red with grain (120 x 120)."""
+    return running_bond((120, 120), seed, COURSE, BRICK, MORTAR, (0.95, 0.55, 0.45),
+                        (0.5, 0.3), 0.1, (0.12, 0.12, 0.12), 0.04)[0]
 
 
 def test_the_measure_sees_a_step_of_half_a_course():
-    ex = running_bond()
+    ex = wall()
     assert course_steps(ex, COURSE, STRIP, wrap=False) == 0
     stepped = np.concatenate([ex[:, :64], np.roll(ex[:, 64:], COURSE // 2, axis=0)], axis=1)
     assert course_steps(stepped, COURSE, STRIP, wrap=False) > 0.1  # one strip pair in 6
@@ -41,7 +33,7 @@ def test_courses_run_straight_across_the_output(seed):
     """A 120 px wall to 192 px: the courses step at under 5 % of the places (strip pairs and
     windows; 0 and 0.6 % for seeds 0 and 1), where without the copies slid into phase
     (``ALIGN_PIXELS`` 0, as before) they stepped at 8 and 15 %."""
-    ex = running_bond(seed=seed)
+    ex = wall(seed=seed)
     out = texsynth.synthesize(ex, 192, 192, method="multiscale_mrf", seed=seed)
     assert course_steps(out, COURSE, STRIP) < 0.05
 
@@ -49,5 +41,5 @@ def test_courses_run_straight_across_the_output(seed):
 def test_without_the_alignment_the_courses_step(monkeypatch):
     """The test above can fail: the same run without the alignment steps more often."""
     monkeypatch.setattr(method, "ALIGN_PIXELS", 0)
-    out = texsynth.synthesize(running_bond(), 192, 192, method="multiscale_mrf", seed=0)
+    out = texsynth.synthesize(wall(), 192, 192, method="multiscale_mrf", seed=0)
     assert course_steps(out, COURSE, STRIP) > 0.06
