@@ -470,7 +470,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k,
                        lens if anisotropy <= _ANISOTROPY_OK else None,
-                       texture_slant=anisotropy <= _ANISOTROPY_OK)
+                       texture_slant=anisotropy <= _ANISOTROPY_OK, w_limit=lens[1])
         if both is None or (anisotropy <= _ANISOTROPY_OK
                             and _distance(both, fit, prior if fit.spread is None else
                                           prior - fit.cov + fit.spread) > _CONFLICT):
