@@ -42,6 +42,9 @@ Deviations from the section, one line each:
 - with the focal length unknown, a texture whose anisotropy breaks isotropy (beyond
   ``_ANISOTROPY_OK``) does not refute two families' orthogonality: its slant, and so f, rests
   on that isotropy (:func:`~texsynth.plane.combine.combine`'s ``texture_slant``).
+- with the focal length unknown, the families' focal length is searched down to the widest lens
+  photos come from (``_LENS_MM``, 13 mm equivalent), not 127 deg: families whose orthogonality
+  needs a wider one are no bricks' or pavers' joints (a rhombic tiling; joints and a stone's grain).
 """
 
 from __future__ import annotations
