@@ -214,15 +214,16 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
             focal_t: float | None, focal_sd_t: float | None, ambiguous_t: bool,
             focal_given: float | None,
             lens: tuple[float, float] | None = None,
-            texture_slant: bool = True) -> Combined | None:
+            texture_slant: bool = True, w_limit: float = _W_LIMIT) -> Combined | None:
     """The plane that best explains the texture fit (p_t, cov_t, focal_t, focal_sd_t,
     ambiguous_t) and the line families in ``cost``; ``focal_given``: the known focal length
     (analysis pixels), else it is estimated with the rest, and ``lens`` (w = side / f at the
     longest and the shortest lens photos come from) allows a frontal reading under that prior
     when the lines show no perspective. ``texture_slant`` False: the texture fit's slant rests
     on an assumption the texture breaks (isotropy), and with the focal length unknown it cannot
-    refute the two families' orthogonality. None when the best fit lies on the search's bounds
-    (a field of view over 127 degrees or a slant of 85)."""
+    refute the two families' orthogonality. ``w_limit``: the largest w = side / f searched (the
+    widest lens photos come from; by default a field of view of 127 degrees across the longer
+    side). None when the best fit lies on the search's bounds (that lens or a slant of 85)."""
     known = focal_given is not None
     cov_prior = _p_covariance(p_t, cov_t)
     theta_t = np.asarray(p_t, dtype=np.float64)
@@ -247,10 +248,10 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     def lines(theta):
         return 0.5 * cost(*split(theta))
 
-    def bounded(theta):  # the search's bounds: |p| <= _MAX_P, 0 <= w <= _W_LIMIT
+    def bounded(theta):  # the search's bounds: |p| <= _MAX_P, 0 <= w <= w_limit
         bound = max(0.0, math.hypot(theta[0], theta[1]) - _MAX_P) ** 2
         if not known:
-            bound += min(theta[2], 0.0) ** 2 + max(theta[2] - _W_LIMIT, 0.0) ** 2
+            bound += min(theta[2], 0.0) ** 2 + max(theta[2] - w_limit, 0.0) ** 2
         return lines(theta) + 1e4 * bound
 
     step = np.array([0.05, 0.05, 0.05][:len(theta_t)])
@@ -289,7 +290,8 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
         free = minimize(lambda th: bounded(th) + prior(th), [*starts, best.x, theta], step)
         return _frontal_under_prior(cost, total, lens, free.fun, [theta[:2], p_t], side)
 
-    if math.hypot(theta[0], theta[1]) > 0.98 * _MAX_P or (not known and theta[2] > 0.98 * _W_LIMIT):
+    if math.hypot(theta[0], theta[1]) > 0.98 * _MAX_P or (not known
+                                                        and theta[2] > 0.98 * w_limit):
         # An impossible view, or (w near 0, p unbounded) parallel lines a frontal view explains.
         return None if known else under_prior()
     hess = hessian(total, theta, np.maximum(1e-3, 0.01 * np.abs(theta)))

@@ -42,6 +42,9 @@ Deviations from the section, one line each:
 - with the focal length unknown, a texture whose anisotropy breaks isotropy (beyond
   ``_ANISOTROPY_OK``) does not refute two families' orthogonality: its slant, and so f, rests
   on that isotropy (:func:`~texsynth.plane.combine.combine`'s ``texture_slant``).
+- with the focal length unknown, the families' focal length is searched down to the widest lens
+  photos come from (``_LENS_MM``, 13 mm equivalent), not 127 deg: families whose orthogonality
+  needs a wider one are no bricks' or pavers' joints (a rhombic tiling; joints and a stone's grain).
 """
 
 from __future__ import annotations
@@ -470,7 +473,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
                        fit.focal, fit.focal_sd, fit.ambiguous,
                        None if focal_px is None else focal_px / k,
                        lens if anisotropy <= _ANISOTROPY_OK else None,
-                       texture_slant=anisotropy <= _ANISOTROPY_OK)
+                       texture_slant=anisotropy <= _ANISOTROPY_OK, w_limit=lens[1])
         if both is None or (anisotropy <= _ANISOTROPY_OK
                             and _distance(both, fit, prior if fit.spread is None else
                                           prior - fit.cov + fit.spread) > _CONFLICT):
