@@ -30,6 +30,7 @@ from benchmarks.context import SHARED_TEXTURES
 from benchmarks.sections.estimate import _exif_jpeg, _score
 from texsynth import plane
 from texsynth.io import read_image
+from texsynth.plane.lines import _RIDGE_SIDE
 
 ORDER = 71
 TITLE = "Plane orientation on real photos and JPEGs (issue 27)"
@@ -44,9 +45,16 @@ TEXTURE_SIDE = 1024       # real photos are block-averaged to this side before r
 SURFACE = {"ufoai-textures/brick_wall.png": slice(60, 980)}
 COVER_80 = math.sqrt(math.log(5.0))  # e <= 1.27 s on 80 % of views for Gaussian errors
 #: The phone set renders the real-photo views at this many times plane_renders' 320 x 256
-#: (1600 x 1280, 2 MP; the line detector reads a 12 MP photo's 4032 x 3024 at 1008 x 756 and
-#: this at 800 x 640), from the full-resolution photos.
+#: (1600 x 1280, 2 MP), from the full-resolution photos.
 PHONE_SCALE = 5
+PHONE_12MP = (4032, 3024)  # a 12 MP phone photo, for the line detector's reading of it
+
+
+def _detector_size(width: int, height: int) -> str:
+    """The size at which the line detector reads a ``width`` x ``height`` photo: block means by
+    the integer factor that brings the longer side to ``_RIDGE_SIDE`` at most."""
+    k = math.ceil(max(width, height) / _RIDGE_SIDE)
+    return f"{width // k} x {height // k}"
 
 
 PHONE = f"real photos, {plane_renders.WIDTH * PHONE_SCALE} x {plane_renders.HEIGHT * PHONE_SCALE}"
@@ -61,8 +69,10 @@ def _phone_note(views, phone) -> str:
                        for name, p in pixels.items())
     return (f"**Phone set**: the real-photo views again, same cameras and scenes, rendered at "
             f"{phone[0].width} x {phone[0].height} ({PHONE_SCALE} x the {views[0].width} x "
-            f"{views[0].height} views; a 12 MP photo is read by the line detector at 1008 x "
-            f"756, this at 800 x 640) from the full photos (the setts at 2048 px). Photo pixels "
+            f"{views[0].height} views; a 12 MP photo is read by the line detector at "
+            f"{_detector_size(*PHONE_12MP)}, this at "
+            f"{_detector_size(phone[0].width, phone[0].height)}) "
+            f"from the full photos (the setts at 2048 px). Photo pixels "
             f"per screen pixel at the plane's origin: {ranges}. Under 1 is a magnified photo: "
             "its joints are softer than a phone photo of the same scene would show them.")
 
