@@ -40,7 +40,7 @@ from scipy.sparse import csgraph
 
 from .. import validation
 from .geometry import jacobians
-from .spectra import downsample
+from .spectra import block_mean, downsample
 
 __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families", "vanishing_point",
            "horizon_through", "spaced_horizon", "distinct_lines", "LineCost"]
@@ -357,17 +357,9 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
                     found.pixel * ratio, found.contrast)
 
 
-def _reduce(a: np.ndarray, k: int) -> np.ndarray:
-    """``a`` block-averaged by ``k`` over the central crop of whole blocks, as
-    :func:`~texsynth.plane.spectra.downsample` does (float32)."""
-    h, w = (a.shape[0] // k) * k, (a.shape[1] // k) * k
-    r0, c0 = (a.shape[0] - h) // 2, (a.shape[1] - w) // 2
-    return a[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k).mean(axis=(1, 3),
-                                                                      dtype=np.float32)
-
-
 def _opponent(image, k: int = 1) -> list[np.ndarray]:
-    """The chroma of a colour ``image`` block-averaged by ``k`` (as :func:`_reduce`) as two
+    """The chroma of a colour ``image`` block-averaged by ``k`` (as
+    :func:`~texsynth.plane.spectra.downsample`, in float32) as two
     opponent channels, red - green and yellow - blue (none for a grey one): joints that differ
     from the stones in colour more than in luminance."""
     if image is None:
@@ -375,7 +367,9 @@ def _opponent(image, k: int = 1) -> list[np.ndarray]:
     a = validation.image(image, what="image", channels=None)
     if a.shape[2] < 3:
         return []
-    r, g, b = (_reduce(a[:, :, c], k) for c in range(3))  # averaging first: the same, cheaper
+    # Averaging first: the same, cheaper; the three channels in one pass over the photo.
+    mean = block_mean(a[:, :, :3], k, np.float32)
+    r, g, b = mean[:, :, 0], mean[:, :, 1], mean[:, :, 2]
     return [r - g, 0.5 * (r + g) - b]
 
 
@@ -700,9 +694,11 @@ class LineCost:
         out = []
         for f in self.families:
             jac, g = jacobians(f.m, p, v)
-            a = np.einsum("nij,nj->ni", jac, f.d)
+            j00, j01, j10, j11 = jac[:, 0, 0], jac[:, 0, 1], jac[:, 1, 0], jac[:, 1, 1]
+            a = np.stack([j00 * f.d[:, 0] + j01 * f.d[:, 1], j10 * f.d[:, 0] + j11 * f.d[:, 1]],
+                         axis=1)  # J d, and det J below, written out: 2 x 2 for each segment
             angle = np.arctan2(a[:, 1], a[:, 0])
-            gain = np.linalg.det(jac) / np.maximum((a * a).sum(axis=1), 1e-300)
+            gain = (j00 * j11 - j01 * j10) / np.maximum((a * a).sum(axis=1), 1e-300)
             out.append((np.where(g > 0.05, angle, np.nan), np.where(g > 0.05, gain, 1.0), jac))
         return out
 
