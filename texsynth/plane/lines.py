@@ -641,7 +641,7 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
             o = (x @ m) / g
             lo_o, hi_o = np.percentile(o, _CENTRAL)
             o = (o - lo_o) / max(float(hi_o - lo_o), 1e-12)
-            rayleigh = np.abs(_phasors(o) @ weight) ** 2
+            rayleigh = np.abs(_phasor_sums(o, weight)) ** 2
             z[i] = rayleigh.max() / (weight * weight).sum()
     best = int(np.argmax(z))
     if z[best] < _SPACED_Z:
@@ -655,14 +655,29 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     return c * a + t[best] * across, sd * sd * np.outer(across, across)
 
 
-def _phasors(o: np.ndarray) -> np.ndarray:
-    """exp(2 pi i c o) for every period count c of ``_CYCLES`` (rows) and offset o (columns),
-    by the recurrence exp(2 pi i (c + dc) o) = exp(2 pi i c o) exp(2 pi i dc o): one complex
-    product an entry instead of an exponential (8 times faster; equal to 1e-13)."""
-    out = np.empty((len(_CYCLES), len(o)), complex)
-    out[0] = np.exp(2j * math.pi * _CYCLES[0] * o)
-    out[1:] = np.exp(2j * math.pi * (_CYCLES[1] - _CYCLES[0]) * o)
-    return np.cumprod(out, axis=0, out=out)
+def _phasor_sums(o: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """sum_n weight_n exp(2 pi i c o_n) for every period count c of ``_CYCLES``.
+
+    With c_j = c_0 + j dc and j = a B + b, the phasor factors into exp(2 pi i (c_0 + a B dc) o)
+    exp(2 pi i b dc o): the sums are the matrix product of about sqrt(len(_CYCLES)) coarse and
+    as many fine phasors per offset (one BLAS call; 2 sqrt(C) exponentials an offset instead
+    of C products of a recurrence over a (C, N) array: 3 to 4 times faster at 1000 to 3000
+    segments, a brick wall's joined family; equal to 1e-13 of the peak).
+
+    Examples
+    --------
+    >>> o, w = np.array([0.0, 0.5, 1.0]), np.array([1.0, 2.0, 1.0])
+    >>> direct = np.exp(2j * np.pi * _CYCLES[:, None] * o) @ w
+    >>> bool(np.allclose(_phasor_sums(o, w), direct, rtol=0, atol=1e-9))
+    True
+    """
+    count, dc = len(_CYCLES), _CYCLES[1] - _CYCLES[0]
+    fine_n = math.isqrt(count - 1) + 1
+    coarse_n = -(-count // fine_n)
+    coarse = np.exp(2j * math.pi * (_CYCLES[0] + np.arange(coarse_n) * (fine_n * dc))[:, None]
+                    * o) * weight
+    fine = np.exp(2j * math.pi * (np.arange(fine_n) * dc)[:, None] * o)
+    return (coarse @ fine.T).ravel()[:count]
 
 
 class LineCost:
