@@ -40,7 +40,7 @@ from scipy.sparse import csgraph
 
 from .. import validation
 from .geometry import jacobians
-from .spectra import downsample
+from .spectra import block_mean, downsample
 
 __all__ = ["Segments", "segments", "fine_segments", "photo_families", "families", "vanishing_point",
            "horizon_through", "spaced_horizon", "distinct_lines", "LineCost"]
@@ -357,17 +357,9 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
                     found.pixel * ratio, found.contrast)
 
 
-def _reduce(a: np.ndarray, k: int) -> np.ndarray:
-    """``a`` block-averaged by ``k`` over the central crop of whole blocks, as
-    :func:`~texsynth.plane.spectra.downsample` does (float32)."""
-    h, w = (a.shape[0] // k) * k, (a.shape[1] // k) * k
-    r0, c0 = (a.shape[0] - h) // 2, (a.shape[1] - w) // 2
-    return a[r0:r0 + h, c0:c0 + w].reshape(h // k, k, w // k, k).mean(axis=(1, 3),
-                                                                      dtype=np.float32)
-
-
 def _opponent(image, k: int = 1) -> list[np.ndarray]:
-    """The chroma of a colour ``image`` block-averaged by ``k`` (as :func:`_reduce`) as two
+    """The chroma of a colour ``image`` block-averaged by ``k`` (as
+    :func:`~texsynth.plane.spectra.downsample`, in float32) as two
     opponent channels, red - green and yellow - blue (none for a grey one): joints that differ
     from the stones in colour more than in luminance."""
     if image is None:
@@ -375,7 +367,9 @@ def _opponent(image, k: int = 1) -> list[np.ndarray]:
     a = validation.image(image, what="image", channels=None)
     if a.shape[2] < 3:
         return []
-    r, g, b = (_reduce(a[:, :, c], k) for c in range(3))  # averaging first: the same, cheaper
+    # Averaging first: the same, cheaper; the three channels in one pass over the photo.
+    mean = block_mean(a[:, :, :3], k, np.float32)
+    r, g, b = mean[:, :, 0], mean[:, :, 1], mean[:, :, 2]
     return [r - g, 0.5 * (r + g) - b]
 
 
@@ -647,7 +641,7 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
             o = (x @ m) / g
             lo_o, hi_o = np.percentile(o, _CENTRAL)
             o = (o - lo_o) / max(float(hi_o - lo_o), 1e-12)
-            rayleigh = np.abs(_phasors(o) @ weight) ** 2
+            rayleigh = np.abs(_phasor_sums(o, weight)) ** 2
             z[i] = rayleigh.max() / (weight * weight).sum()
     best = int(np.argmax(z))
     if z[best] < _SPACED_Z:
@@ -661,14 +655,29 @@ def spaced_horizon(family: Segments, constraint: np.ndarray,
     return c * a + t[best] * across, sd * sd * np.outer(across, across)
 
 
-def _phasors(o: np.ndarray) -> np.ndarray:
-    """exp(2 pi i c o) for every period count c of ``_CYCLES`` (rows) and offset o (columns),
-    by the recurrence exp(2 pi i (c + dc) o) = exp(2 pi i c o) exp(2 pi i dc o): one complex
-    product an entry instead of an exponential (8 times faster; equal to 1e-13)."""
-    out = np.empty((len(_CYCLES), len(o)), complex)
-    out[0] = np.exp(2j * math.pi * _CYCLES[0] * o)
-    out[1:] = np.exp(2j * math.pi * (_CYCLES[1] - _CYCLES[0]) * o)
-    return np.cumprod(out, axis=0, out=out)
+def _phasor_sums(o: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """sum_n weight_n exp(2 pi i c o_n) for every period count c of ``_CYCLES``.
+
+    With c_j = c_0 + j dc and j = a B + b, the phasor factors into exp(2 pi i (c_0 + a B dc) o)
+    exp(2 pi i b dc o): the sums are the matrix product of about sqrt(len(_CYCLES)) coarse and
+    as many fine phasors per offset (one BLAS call; 2 sqrt(C) exponentials an offset instead
+    of C products of a recurrence over a (C, N) array: 3 to 4 times faster at 1000 to 3000
+    segments, a brick wall's joined family; equal to 1e-13 of the peak).
+
+    Examples
+    --------
+    >>> o, w = np.array([0.0, 0.5, 1.0]), np.array([1.0, 2.0, 1.0])
+    >>> direct = np.exp(2j * np.pi * _CYCLES[:, None] * o) @ w
+    >>> bool(np.allclose(_phasor_sums(o, w), direct, rtol=0, atol=1e-9))
+    True
+    """
+    count, dc = len(_CYCLES), _CYCLES[1] - _CYCLES[0]
+    fine_n = math.isqrt(count - 1) + 1
+    coarse_n = -(-count // fine_n)
+    coarse = np.exp(2j * math.pi * (_CYCLES[0] + np.arange(coarse_n) * (fine_n * dc))[:, None]
+                    * o) * weight
+    fine = np.exp(2j * math.pi * (np.arange(fine_n) * dc)[:, None] * o)
+    return (coarse @ fine.T).ravel()[:count]
 
 
 class LineCost:
@@ -700,9 +709,11 @@ class LineCost:
         out = []
         for f in self.families:
             jac, g = jacobians(f.m, p, v)
-            a = np.einsum("nij,nj->ni", jac, f.d)
+            j00, j01, j10, j11 = jac[:, 0, 0], jac[:, 0, 1], jac[:, 1, 0], jac[:, 1, 1]
+            a = np.stack([j00 * f.d[:, 0] + j01 * f.d[:, 1], j10 * f.d[:, 0] + j11 * f.d[:, 1]],
+                         axis=1)  # J d, and det J below, written out: 2 x 2 for each segment
             angle = np.arctan2(a[:, 1], a[:, 0])
-            gain = np.linalg.det(jac) / np.maximum((a * a).sum(axis=1), 1e-300)
+            gain = (j00 * j11 - j01 * j10) / np.maximum((a * a).sum(axis=1), 1e-300)
             out.append((np.where(g > 0.05, angle, np.nan), np.where(g > 0.05, gain, 1.0), jac))
         return out
 
