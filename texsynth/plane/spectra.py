@@ -218,9 +218,10 @@ class Criterion:
     def bands(self, p: np.ndarray, v: np.ndarray):
         """Log band energies L (N, S, K), their noise variances, which count, and g.
 
-        The windows are binned in independent chunks of ``_CHUNK`` samples, side by side on
-        the pool when called from one thread (a window's bands depend on its own samples only);
-        S keeps only the scales some window measures (the others count nowhere)."""
+        The windows are binned in independent chunks of ``_CHUNK`` samples, a run of chunks
+        for each core side by side on the pool when called from one thread (a window's bands
+        depend on its own samples only); S keeps only the scales some window measures (the
+        others count nowhere)."""
         s = self.s
         jac, g = jacobians(s.centres, p, v)
         g_safe = np.maximum(g, _G_MIN)
@@ -231,8 +232,13 @@ class Criterion:
         # nu = J^-T w, (N, M), in float32 (bin positions need no more; twice the speed)
         inv = np.concatenate([x / signed for x in (d, c, a, b)], axis=1).astype(np.float32)
         step = max(1, _CHUNK // s.psd.shape[1])
-        parts = parallel.run(lambda i: self._binned(inv[i:i + step], s.psd[i:i + step]),
-                             range(0, len(det), step))
+        starts = range(0, len(det), step)
+
+        def binned(span):  # one task a core, not one a chunk: a chunk takes about 1 ms
+            return [self._binned(inv[i:i + step], s.psd[i:i + step]) for i in starts[slice(*span)]]
+
+        parts = [part for spans in parallel.run(binned, parallel.ranges(len(starts), 1))
+                 for part in spans]
         wsum, w2sum, psum = (np.concatenate(x) for x in zip(*parts, strict=True))
         measured = np.flatnonzero(wsum.any(axis=(0, 2)))
         lo, hi = (measured[0], measured[-1] + 1) if len(measured) else (0, 1)
