@@ -53,9 +53,8 @@ def half_iqr(image):
     return 0.5 * float(np.subtract(*np.percentile(luminance(image), [75, 25])))
 
 
-
-
-def running_bond(shape, seed, course, brick, joint, tint, shade, grain, mortar, speckle):
+def running_bond(shape, seed, *, course, brick, joint, tint, shade, grain, mortar,
+                 speckle):
     """A wall laid in running bond: courses ``course`` px tall of bricks ``brick`` px long, each
     course shifted half a brick, joints ``joint`` px wide. Each brick is ``tint`` (RGB) times
     its own shade, uniform in ``shade`` (low, width), plus smooth grain of amplitude ``grain``;

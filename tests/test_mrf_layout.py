@@ -14,8 +14,9 @@ BLOCK, PERIOD = 13, 16  # blocks 13 px square, 3 px joints
 def blocks(shape=(96, 96), seed=0):
     """Rows of grey blocks 13 px square on a 16 px period, every other row offset by half a
     block, dark green joints, each block its own grey with grain; and the block mask."""
-    img, joint = running_bond(shape, seed, PERIOD, PERIOD, PERIOD - BLOCK, (1.0, 0.97, 0.92),
-                              (0.45, 0.25), 0.12, (0.2, 0.3, 0.12), 0.05)
+    img, joint = running_bond(shape, seed, course=PERIOD, brick=PERIOD, joint=PERIOD - BLOCK,
+                              tint=(1.0, 0.97, 0.92), shade=(0.45, 0.25), grain=0.12,
+                              mortar=(0.2, 0.3, 0.12), speckle=0.05)
     return img, ~joint
 
 

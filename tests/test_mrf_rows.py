@@ -17,8 +17,9 @@ STRIP = 16  # column strips whose bed joints are compared
 def wall(seed=0):
     """Courses 12 px tall of bricks 28 px long, each course shifted half a brick, 2 px dark
     mortar, each brick its own red with grain (120 x 120)."""
-    return running_bond((120, 120), seed, COURSE, BRICK, MORTAR, (0.95, 0.55, 0.45),
-                        (0.5, 0.3), 0.1, (0.12, 0.12, 0.12), 0.04)[0]
+    return running_bond((120, 120), seed, course=COURSE, brick=BRICK, joint=MORTAR,
+                        tint=(0.95, 0.55, 0.45), shade=(0.5, 0.3), grain=0.1,
+                        mortar=(0.12, 0.12, 0.12), speckle=0.04)[0]
 
 
 def test_the_measure_sees_a_step_of_half_a_course():

@@ -31,6 +31,7 @@ from benchmarks.sections.estimate import _exif_jpeg, _score
 from texsynth import plane
 from texsynth.io import read_image
 from texsynth.plane.lines import _RIDGE_SIDE
+from texsynth.plane.spectra import block_factor
 
 ORDER = 71
 TITLE = "Plane orientation on real photos and JPEGs (issue 27)"
@@ -51,9 +52,9 @@ PHONE_12MP = (4032, 3024)  # a 12 MP phone photo, for the line detector's readin
 
 
 def _detector_size(width: int, height: int) -> str:
-    """The size at which the line detector reads a ``width`` x ``height`` photo: block means by
-    the integer factor that brings the longer side to ``_RIDGE_SIDE`` at most."""
-    k = math.ceil(max(width, height) / _RIDGE_SIDE)
+    """The size at which the line detector reads a ``width`` x ``height`` photo (block means
+    at up to ``_RIDGE_SIDE``)."""
+    k = block_factor((height, width), _RIDGE_SIDE)
     return f"{width // k} x {height // k}"
 
 

@@ -57,7 +57,6 @@ _W_PRIOR = 1.0   # sd of w = side / f when the texture fit is orthographic (no p
 _DIRECTION = 2.0  # the other receding direction must cost this much more (half chi-square)
 _WEAK = 1e-3     # the texture's weight while the line noise is calibrated
 _MAX_P = 12.0    # |p| = tan(slant) bound of the search (slant 85 deg)
-_W_LIMIT = 4.0   # w = side / f at most: f >= a quarter of the longer side (127 deg across it)
 _DETERMINED = 3.0  # deg: lines alone fixing the slant this well make the estimate line-based
 _ORTHOGONAL_Z = 3.0  # sigmas: two families missing orthogonality by more only fix the horizon
 
@@ -214,7 +213,7 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
             focal_t: float | None, focal_sd_t: float | None, ambiguous_t: bool,
             focal_given: float | None,
             lens: tuple[float, float] | None = None,
-            texture_slant: bool = True, w_limit: float = _W_LIMIT) -> Combined | None:
+            texture_slant: bool = True, *, w_limit: float) -> Combined | None:
     """The plane that best explains the texture fit (p_t, cov_t, focal_t, focal_sd_t,
     ambiguous_t) and the line families in ``cost``; ``focal_given``: the known focal length
     (analysis pixels), else it is estimated with the rest, and ``lens`` (w = side / f at the
@@ -222,8 +221,8 @@ def combine(cost: LineCost, side: float, p_t: np.ndarray, cov_t: np.ndarray,
     when the lines show no perspective. ``texture_slant`` False: the texture fit's slant rests
     on an assumption the texture breaks (isotropy), and with the focal length unknown it cannot
     refute the two families' orthogonality. ``w_limit``: the largest w = side / f searched (the
-    widest lens photos come from; by default a field of view of 127 degrees across the longer
-    side). None when the best fit lies on the search's bounds (that lens or a slant of 85)."""
+    widest lens photos come from). None when the best fit lies on the search's bounds (that
+    lens or a slant of 85)."""
     known = focal_given is not None
     cov_prior = _p_covariance(p_t, cov_t)
     theta_t = np.asarray(p_t, dtype=np.float64)

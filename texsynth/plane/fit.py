@@ -48,8 +48,8 @@ Deviations from the section, one line each:
   ``_ANISOTROPY_OK``) does not refute two families' orthogonality: its slant, and so f, rests
   on that isotropy (:func:`~texsynth.plane.combine.combine`'s ``texture_slant``).
 - with the focal length unknown, the families' focal length is searched down to the widest lens
-  photos come from (``_LENS_MM``, 13 mm equivalent), not 127 deg: families whose orthogonality
-  needs a wider one are no bricks' or pavers' joints (a rhombic tiling; joints and a stone's grain).
+  photos come from (``_LENS_MM``, 13 mm equivalent): families whose orthogonality needs a
+  wider one are no bricks' or pavers' joints (a rhombic tiling; joints and a stone's grain).
 """
 
 from __future__ import annotations
@@ -290,7 +290,7 @@ def _fit_known_focal(crit: Criterion, f: float, v_spaced=None) -> _Fit:
     else:
         # The texture's own inhomogeneity left at the fit (lighting, grass between setts) is an
         # error of the assumption, not noise: shared by _PATCHES independent patches.
-        value = crit.homogeneity(p, p / f)[0]
+        value = cost(p)
         cov = _covariance(_angles_cost(crit.homogeneity, lambda q: q / f), st, (1.5, 3.0), raw,
                           dof, max(value, 0.0) / _PATCHES)
         if (cost(np.zeros(2)) - value) / _noise(raw, dof) < _EVIDENCE:

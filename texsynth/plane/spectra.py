@@ -49,10 +49,22 @@ def luminance(image) -> np.ndarray:
     return a[:, :, 0]
 
 
+def block_factor(shape: tuple[int, ...], side: int = _ANALYSIS_SIDE) -> int:
+    """The integer factor k that brings the longer of ``shape``'s first two sides to ``side``
+    at most (:func:`downsample`'s).
+
+    Examples
+    --------
+    >>> block_factor((3024, 4032), 1024)  # a 12 MP photo is read at 1008 x 756
+    4
+    """
+    return max(1, math.ceil(max(shape[:2]) / side))
+
+
 def downsample(lum: np.ndarray, side: int = _ANALYSIS_SIDE) -> tuple[np.ndarray, int]:
     """Block average (float64) by the integer factor k that brings the longer side to ``side``
-    at most, over the central crop of whole blocks; and k."""
-    k = max(1, math.ceil(max(lum.shape) / side))
+    at most (:func:`block_factor`), over the central crop of whole blocks; and k."""
+    k = block_factor(lum.shape, side)
     if k == 1:
         return lum.astype(np.float64), 1
     return block_mean(lum, k, np.float64), k
