@@ -17,6 +17,7 @@ import texsynth
 from texsynth import batch, cli
 from texsynth.io import read_png, write_png
 from texsynth.io.files import TEMP_PREFIX
+from texsynth.jobs import InputError, UsageError
 from texsynth.metrics import seam_ratio
 
 from _images import ramp_photo
@@ -57,16 +58,19 @@ def test_a_manifest_names_photos_maps_methods_sizes_and_seeds(tmp_path):
     assert len(jobs[0].outputs) == 2 and jobs[0].outputs[1].endswith(".png")
 
 
-@pytest.mark.parametrize("row, named", [
-    ("photo0.png,,synthesize,heeger_bergen,,,radius=2", "list.csv:2"),
-    ("photo0.png,,blur,,,,", "blur"),
-    ("photo0.png,,,,,x,", "list.csv:2"),
-    ("nothere.png,,,,,,", "nothere.png"),
+@pytest.mark.parametrize("row, error, named", [
+    ("photo0.png,,synthesize,heeger_bergen,,,radius=2", UsageError, "list.csv:2"),
+    ("photo0.png,,blur,,,,", UsageError, "list.csv:2: operation.*blur"),
+    ("photo0.png,,,,,x,", UsageError, "list.csv:2: seed"),
+    ("photo0.png,,,,,-1,", UsageError, "list.csv:2.*seed"),
+    ("photo0.png,,,,100000,,", UsageError, "list.csv:2.*100000"),
+    ("photo0.png,photo1.png,,,,,", InputError, "list.csv:2.*photo1.png: 72 x 64"),
+    ("nothere.png,,,,,,", InputError, "list.csv:2: .*nothere.png: no such file"),
 ])
-def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, named):
-    photos = _photos(tmp_path / "in", 1)
+def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, error, named):
+    photos = _photos(tmp_path / "in", 2)
     (photos / "list.csv").write_text("photo,maps,operation,method,size,seed,params\n" + row)
-    with pytest.raises((ValueError, FileNotFoundError), match=named):
+    with pytest.raises(error, match=named):
         batch.plan(photos / "list.csv", tmp_path / "out")
     assert not (tmp_path / "out").exists()
 

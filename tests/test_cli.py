@@ -98,7 +98,7 @@ def test_tile_keeps_the_size_and_other_maps_follow(tmp_path, photo, capsys):
     (["synthesize", "{photo}", "-o", "{photo}"], 2, "overwrite"),
     (["synthesize", "{photo}", "-o", "{tmp}/sub/o.png", "--method", "heeger_bergen", "--maps",
       "{photo}"], 2, "--maps"),
-    (["tile", "{photo}", "-o", "{tmp}/o.png", "--band", "1000"], 1, "band"),
+    (["tile", "{photo}", "-o", "{tmp}/o.png", "--band", "1000"], 2, "band"),
     (["estimate", "{tmp}/missing.png"], 3, "missing.png"),
 ])
 def test_bad_input_exits_with_one_line_naming_it_and_writes_nothing(

@@ -19,7 +19,7 @@ from . import budget, validation
 from .progress import Progress
 from .registry import get_method, methods
 
-__all__ = ["synthesize", "synthesize_positions"]
+__all__ = ["synthesize", "synthesize_positions", "check"]
 
 
 def synthesize(
@@ -80,20 +80,46 @@ def synthesize_positions(
     return _run(exemplar, width, height, method, seed, progress, params, True)
 
 
-def _run(exemplar, width, height, method, seed, progress, params, want_positions):
+def check(shape, width: int, height: int, *, method: str = "heeger_bergen", seed: int = 0,
+          positions: bool = False, **params) -> tuple[int, int, int, dict]:
+    """Every check :func:`synthesize` makes before any work, from the exemplar's shape alone.
+
+    What a file's header tells is enough: a command line or a batch checks every photo this way
+    before it starts. Returns ``(width, height, seed, params)`` as the method takes them, or
+    raises ``ValueError`` (:class:`~texsynth.validation.BudgetError` over a budget) naming what
+    to change. ``positions``: the run must give a position map.
+
+    Examples
+    --------
+    >>> check((256, 256, 3), 512, 512, method="random_phase")[:3]
+    (512, 512, 0)
+    >>> check((4, 4, 3), 512, 512, method="random_phase")
+    Traceback (most recent call last):
+    ...
+    ValueError: exemplar is 4 x 4 pixels; this needs at least 8 x 8
+    """
     m = get_method(method)
-    if want_positions and not m.positions:
+    if positions and not m.positions:
         raise ValueError(f"method '{m.name}' does not copy exemplar pixels, so it has no "
                          "position map; use one of: "
                          + ", ".join(x.name for x in methods() if x.positions))
     values = m.resolve(params)
-    a = validation.image(exemplar, min_side=m.min_exemplar)
+    validation.check_side(shape, m.min_exemplar)
     width, height = validation.size(width, height)
     seed = validation.seed(seed)
+    shape = (*shape[:2], shape[2] if len(shape) == 3 else 1)
     # Time first: a run predicted to take days is refused for that, whatever memory it needs.
-    budget.check_method(m, a.shape, width, height, values)
-    validation.check_memory(m.memory(a.shape, width, height, values),
+    budget.check_method(m, shape, width, height, values)
+    validation.check_memory(m.memory(shape, width, height, values),
                             f"{width} x {height} with '{m.name}'")
+    return width, height, seed, values
+
+
+def _run(exemplar, width, height, method, seed, progress, params, want_positions):
+    m = get_method(method)
+    a = validation.image(exemplar, min_side=1)
+    width, height, seed, values = check(a.shape, width, height, method=method, seed=seed,
+                                        positions=want_positions, **params)
 
     constant_alpha = None
     if a.shape[2] == 4 and np.ptp(a[:, :, 3]) == 0:

@@ -36,24 +36,29 @@ import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from importlib import metadata
 from pathlib import Path
 
-from .api import synthesize, synthesize_positions
-from .io.files import TEMP_PREFIX, encode, is_linear, png_bits, read_photo, write_image
-from .positions import apply_positions
-from .registry import get_method
-from .tileable import follow, make_tileable_positions
+from .io.files import TEMP_PREFIX, png_bits
+from .jobs import (
+    DEFAULT_METHOD,
+    KEYS,
+    OPERATIONS,
+    PHOTO_SUFFIXES,
+    InputError,
+    Job,
+    UsageError,
+    check_plan,
+    is_done,
+    key,
+    parse_size,
+    preflight,
+    run_job,
+    version,
+)
 
 __all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "run", "run_job",
            "is_done"]
 
-#: What a batch can do with a photo.
-OPERATIONS = ("synthesize", "tile")
-#: Files of a folder taken as photos.
-PHOTO_SUFFIXES = (".png", ".exr", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
-#: The folder of the keys, inside the output folder.
-KEYS = ".texsynth"
 #: The Dask setting that makes worker processes hand freed memory back at once (see _submit).
 NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
@@ -63,43 +68,14 @@ class Defaults:
     """The command line's values, for every photo of a folder and every empty manifest cell."""
 
     operations: tuple[str, ...] = ("synthesize",)
-    method: str = "multiscale_mrf"
+    method: str = DEFAULT_METHOD
     size: tuple[int, int] = (1024, 1024)
     seed: int = 0
     params: dict = field(default_factory=dict)
     band: int | None = None
-    format: str | None = None  # "png" or "exr"; None: EXR from EXR input, else PNG
+    format: str | None = None  # an output suffix without the dot; None: EXR from EXR, else PNG
     bits: int | None = None
     data: bool = False
-
-
-@dataclass(frozen=True)
-class Job:
-    """One task: a photo (and its other maps) through one operation into ``outputs``."""
-
-    photo: str
-    maps: tuple[str, ...]
-    operation: str
-    method: str
-    width: int
-    height: int
-    seed: int
-    band: int | None
-    params: tuple[tuple[str, object], ...]
-    bits: int
-    data: bool
-    outputs: tuple[str, ...]  # the photo's result, then each map's
-
-    def recipe(self) -> dict:
-        """The parameters that decide the output's bits (the key's second half)."""
-        fields = dict(operation=self.operation, seed=self.seed, bits=self.bits, data=self.data,
-                      suffix=Path(self.outputs[0]).suffix, maps=len(self.maps))
-        if self.operation == "synthesize":
-            fields.update(method=self.method, width=self.width, height=self.height,
-                          params=dict(self.params))
-        else:
-            fields.update(band=self.band)
-        return fields
 
 
 @dataclass
@@ -122,10 +98,12 @@ class Summary:
 # --- planning -------------------------------------------------------------------------------
 
 def plan(source, out_dir, defaults: Defaults = Defaults()) -> list[Job]:
-    """The jobs of a folder or manifest, every value checked before anything runs.
+    """The jobs of a folder or manifest, every row checked before anything runs.
 
-    Raises ``FileNotFoundError`` naming a missing source, photo or map, and ``ValueError``
-    naming the manifest row and column of a bad value, or two tasks that would write one file.
+    Each job is checked as :mod:`texsynth.jobs` checks the command line's (``check_plan``,
+    then ``preflight``): raises :class:`~texsynth.jobs.JobError` naming the manifest row and
+    column of a bad value, a missing or unreadable photo or map, two tasks that would write one
+    file, an output that is an input, or an output folder that would feed the next run.
 
     Examples
     --------
@@ -138,39 +116,39 @@ def plan(source, out_dir, defaults: Defaults = Defaults()) -> list[Job]:
     """
     source, out_dir = Path(source), Path(out_dir)
     if not source.exists():
-        raise FileNotFoundError(f"{source}: no such folder or manifest")
+        raise InputError(f"{source}: no such folder or manifest")
     if source.is_dir():
-        rows = [(f"{p.name}", {"photo": str(p)}) for p in sorted(source.iterdir())
+        rows = [(str(p), {"photo": str(p)}) for p in sorted(source.iterdir())
                 if p.is_file() and p.suffix.lower() in PHOTO_SUFFIXES]
         if not rows:
-            raise ValueError(f"{source}: no image files ({', '.join(PHOTO_SUFFIXES)})")
+            raise InputError(f"{source}: no image files ({', '.join(PHOTO_SUFFIXES)})")
     else:
         rows = _manifest_rows(source)
     jobs = [job for where, row in rows for job in _jobs(where, row, out_dir, defaults)]
-    seen: dict[str, str] = {}
-    for job in jobs:
-        for out in job.outputs:
-            if out in seen:
-                raise ValueError(f"{out}: written by two tasks ({seen[out]} and {job.photo}); "
-                                 "give them different seeds or sizes")
-            seen[out] = job.photo
+    check_plan(jobs, source_folder=source if source.is_dir() else None)
+    preflight(jobs)
     return jobs
 
 
 def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
-    text = path.read_text(encoding="utf-8-sig")
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = path.read_bytes()[:error.start].count(b"\n") + 1
+        raise InputError(f"{path}:{line}: not UTF-8 text; save the manifest as UTF-8") from None
+    except OSError as error:
+        raise InputError(f"{path}: cannot read ({error.strerror or error})") from None
     dialect = "excel-tab" if path.suffix.lower() == ".tsv" or "\t" in text.split("\n")[0] \
         else "excel"
     reader = csv.DictReader(text.splitlines(), dialect=dialect)
     if not reader.fieldnames or "photo" not in [f.strip() for f in reader.fieldnames]:
-        raise ValueError(f"{path}: a manifest needs a header row with a 'photo' column")
+        raise UsageError(f"{path}: a manifest needs a header row with a 'photo' column")
     rows = []
     for number, row in enumerate(reader, start=2):
         row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
         if not row.get("photo"):
             continue
-        for name in ("photo",):
-            row[name] = str(path.parent / row[name])
+        row["photo"] = str(path.parent / row["photo"])
         if row.get("maps"):
             row["maps"] = ";".join(str(path.parent / m.strip())
                                    for m in row["maps"].split(";") if m.strip())
@@ -178,58 +156,45 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
     return rows
 
 
+def _value(where: str, column: str, text: str, parse):
+    try:
+        return parse(text)
+    except ValueError as error:
+        raise UsageError(f"{where}: {column}: {error}") from None
+
+
+def _param(text: str):
+    text = text.strip()
+    return json.loads(text.lower() if text.lower() in ("true", "false") else text)
+
+
 def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
     photo = Path(row["photo"])
     maps = tuple(m for m in row.get("maps", "").split(";") if m)
-    for p in (photo, *map(Path, maps)):
-        if not p.is_file():
-            raise FileNotFoundError(f"{where}: {p}: no such file")
     operations = (row["operation"],) if row.get("operation") else d.operations
     method = row.get("method") or d.method
-    try:
-        width, height = _size(row["size"]) if row.get("size") else d.size
-        seed = int(row["seed"]) if row.get("seed") else d.seed
-        band = int(row["band"]) if row.get("band") else d.band
-        params = dict(d.params)
-        for item in filter(None, row.get("params", "").split(";")):
-            name, _, value = item.partition("=")
-            params[name.strip()] = json.loads(value.strip().lower()
-                                              if value.strip().lower() in ("true", "false")
-                                              else value.strip())
-    except (ValueError, KeyError) as error:
-        raise ValueError(f"{where}: {error}") from None
+    width, height = (_value(where, "size", row["size"], parse_size) if row.get("size")
+                     else d.size)
+    seed = _value(where, "seed", row["seed"], int) if row.get("seed") else d.seed
+    band = _value(where, "band", row["band"], int) if row.get("band") else d.band
+    params = dict(d.params)
+    for item in filter(None, row.get("params", "").split(";")):
+        name, _, value = item.partition("=")
+        params[name.strip()] = _value(where, "params", value, _param)
     suffix = "." + (d.format or ("exr" if photo.suffix.lower() == ".exr" else "png"))
-    bits = d.bits or png_bits(photo)
+    bits = d.bits or (png_bits(photo) if photo.is_file() else 8)
     jobs = []
     for operation in operations:
-        if operation not in OPERATIONS:
-            raise ValueError(f"{where}: operation must be one of {', '.join(OPERATIONS)}, "
-                             f"got {operation!r}")
-        if operation == "synthesize":
-            try:
-                m = get_method(method)
-                m.resolve(params)
-            except ValueError as error:
-                raise ValueError(f"{where}: {error}") from None
-            if maps and not m.positions:
-                raise ValueError(f"{where}: method {method} does not copy photo pixels, so "
-                                 "other maps cannot follow it")
-            tag = f"_{method}_{width}x{height}_s{seed}" + _params_tag(params)
-        else:
+        if operation == "tile":
             tag = f"_tile_s{seed}" + ("" if band is None else f"_b{band}")
+        else:
+            tag = f"_{method}_{width}x{height}_s{seed}" + _params_tag(params)
         outputs = tuple(str(out_dir / f"{Path(p).stem}{tag}{suffix}") for p in (photo, *maps))
         jobs.append(Job(photo=str(photo), maps=maps, operation=operation, method=method,
                         width=width, height=height, seed=seed, band=band,
                         params=tuple(sorted(params.items())), bits=bits, data=d.data,
-                        outputs=outputs))
+                        outputs=outputs, origin=where))
     return jobs
-
-
-def _size(text: str) -> tuple[int, int]:
-    values = [int(v) for v in text.lower().split("x")]
-    if len(values) not in (1, 2) or min(values) < 1:
-        raise ValueError(f"size must be N or WxH, got {text!r}")
-    return values[0], values[-1]
 
 
 def _params_tag(params: dict) -> str:
@@ -237,106 +202,6 @@ def _params_tag(params: dict) -> str:
     if not params:
         return ""
     return "_p" + hashlib.sha256(json.dumps(sorted(params.items())).encode()).hexdigest()[:8]
-
-
-# --- keys -----------------------------------------------------------------------------------
-
-def key(job: Job) -> str:
-    """SHA-256 of the inputs' bytes, the job's recipe and texsynth's output format version."""
-    h = hashlib.sha256(json.dumps([version(), job.recipe()], sort_keys=True).encode())
-    for path in (job.photo, *job.maps):
-        with open(path, "rb") as f:
-            h.update(hashlib.file_digest(f, "sha256").digest())
-    return h.hexdigest()
-
-
-def version() -> str:
-    """The installed texsynth's version: another release may give other bits."""
-    try:
-        return metadata.version("texsynth")
-    except metadata.PackageNotFoundError:  # a checkout, not pip-installed
-        return "checkout"
-
-
-def _key_path(output: str) -> Path:
-    out = Path(output)
-    return out.parent / KEYS / (out.name + ".key")
-
-
-def is_done(job: Job, job_key: str) -> bool:
-    """Every output is there and carries ``job_key``."""
-    for out in job.outputs:
-        try:
-            if not Path(out).is_file() or _key_path(out).read_text() != job_key:
-                return False
-        except OSError:
-            return False
-    return True
-
-
-def _write_key(output: str, job_key: str) -> None:
-    path = _key_path(output)
-    path.parent.mkdir(exist_ok=True)
-    temp = path.with_name(f"{TEMP_PREFIX}{path.name}-{os.getpid()}")
-    temp.write_text(job_key)
-    os.replace(temp, path)
-
-
-# --- the task -------------------------------------------------------------------------------
-
-def run_job(job: Job) -> str:
-    """Do one job, on a Dask worker or anywhere.
-
-    Parameters
-    ----------
-    job : Job
-        From :func:`plan`.
-
-    Returns
-    -------
-    str
-        ``"done"``, or ``"skipped"`` when its outputs already carry its key (nothing is
-        written). Exceptions propagate: Dask reports them as the task's.
-
-    Examples
-    --------
-    >>> import tempfile, numpy as np
-    >>> from texsynth.io import write_image
-    >>> folder = Path(tempfile.mkdtemp())
-    >>> write_image(folder / "sand.png", np.random.default_rng(0).random((32, 32, 3)))
-    >>> (job,) = plan(folder, folder / "out", Defaults(size=(24, 24), method="heeger_bergen"))
-    >>> run_job(job), run_job(job)
-    ('done', 'skipped')
-    """
-    job_key = key(job)
-    if is_done(job, job_key):
-        return "skipped"
-    photo = read_photo(job.photo)
-    maps = [read_photo(m) for m in job.maps]
-    for path, image in zip(job.maps, maps, strict=True):
-        if image.shape[:2] != photo.shape[:2]:
-            raise ValueError(f"{path}: {image.shape[1]} x {image.shape[0]}, not the photo's "
-                             f"{photo.shape[1]} x {photo.shape[0]}")
-    if job.operation == "tile":
-        result, positions = make_tileable_positions(photo, band=job.band, seed=job.seed)
-    elif maps:
-        result, positions = synthesize_positions(photo, job.width, job.height,
-                                                 method=job.method, seed=job.seed,
-                                                 **dict(job.params))
-    else:
-        result = synthesize(photo, job.width, job.height, method=job.method, seed=job.seed,
-                            **dict(job.params))
-    if not job.data:
-        result = encode(result, is_linear(job.photo), is_linear(job.outputs[0]))
-    Path(job.outputs[0]).parent.mkdir(parents=True, exist_ok=True)
-    write_image(job.outputs[0], result, bits=job.bits)
-    for out, image in zip(job.outputs[1:], maps, strict=True):
-        moved = (follow(positions, image, band=job.band) if job.operation == "tile"
-                 else apply_positions(positions, image))
-        write_image(out, moved, bits=job.bits)
-    for out in job.outputs:
-        _write_key(out, job_key)
-    return "done"
 
 
 # --- the batch ------------------------------------------------------------------------------

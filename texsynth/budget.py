@@ -179,13 +179,15 @@ def describe(seconds: float) -> str:
 
 
 def check_time(seconds: float, what: str, advice: str = "") -> None:
-    """``ValueError`` before any work when ``seconds`` (predicted) exceed :func:`time_budget`."""
+    """:class:`~texsynth.validation.BudgetError` before any work when ``seconds`` (predicted)
+    exceed :func:`time_budget`."""
     budget = time_budget()
     if seconds > budget:
-        raise ValueError(f"{what} is predicted to take about {describe(seconds)}, over the time "
-                         f"budget of {describe(budget)}; choose a smaller size"
-                         f"{', ' + advice if advice else ''}, or set TEXSYNTH_TIME_BUDGET "
-                         "(seconds) to raise the budget")
+        raise validation.BudgetError(
+            f"{what} is predicted to take about {describe(seconds)}, over the time "
+            f"budget of {describe(budget)}; choose a smaller size"
+            f"{', ' + advice if advice else ''}, or set TEXSYNTH_TIME_BUDGET "
+            "(seconds) to raise the budget")
 
 
 def check_method(method, exemplar_shape, width: int, height: int, params: dict) -> float:

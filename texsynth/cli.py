@@ -19,7 +19,6 @@ when piped; an error is one line naming the file or option, with the exit codes 
 from __future__ import annotations
 
 import argparse
-import functools
 import json
 import logging
 import math
@@ -30,38 +29,40 @@ from dataclasses import asdict
 from pathlib import Path
 
 from . import batch as batch_module
-from .api import synthesize as synthesize_image
-from .api import synthesize_positions
-from .blocks.periodic import tile_preview
-from .io.files import SUFFIXES, encode, is_linear, png_bits, read_photo, write_image
+from .io.files import encode, is_linear, png_bits
+from .jobs import (
+    DEFAULT_METHOD,
+    EXIT_CODES,
+    Job,
+    JobError,
+    RefusedError,
+    UsageError,
+    check_folder,
+    check_plan,
+    execute,
+    parse_size,
+    preflight,
+    read_input,
+    write_outputs,
+)
 from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, rectify
-from .positions import apply_positions
 from .progress import Cancelled
 from .registry import get_method, methods
-from .tileable import follow, make_tileable_positions
+from .validation import BudgetError
 
 __all__ = ["main", "EXIT_CODES", "Bar"]
 
-#: Exit status of the command, documented in every ``--help``.
-EXIT_CODES = {
-    0: "success",
-    1: "texsynth refused or failed the work (the message names what to change), or\n"
-       "       some of a batch's tasks failed",
-    2: "the command line is wrong (an unknown option or a bad value)",
-    3: "an input file is missing or cannot be read",
-    4: "an output cannot be written",
-    130: "interrupted (Ctrl+C): nothing half-written is left",
-}
-_EPILOG = "exit codes:\n" + "\n".join(f"  {code:<4} {text}" for code, text in EXIT_CODES.items())
-_DEFAULT_METHOD = "multiscale_mrf"  # the README's "any photo, a look first"
+_EPILOG = ("existing files: an output replaces a file of its name only when it is complete "
+           "(written\nbeside it, then renamed); an input is never written over, and outputs "
+           "that would\nbe one file are refused before any work.\n\nexit codes:\n"
+           + "\n".join(f"  {code:<4} {text}" for code, text in EXIT_CODES.items()))
 
 
-class CliError(Exception):
-    """A one-line error and the exit code that goes with it."""
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors as one line (``UsageError``), not the usage block."""
 
-    def __init__(self, message: str, code: int):
-        super().__init__(message)
-        self.code = code
+    def error(self, message):
+        raise UsageError(f"{message} (see '{self.prog} --help')")
 
 
 class Bar:
@@ -133,16 +134,11 @@ def _clock(seconds: float) -> str:
 # --- options -------------------------------------------------------------------------------
 
 def _size(text: str) -> tuple[int, int]:
-    """``N`` (square) or ``WxH``."""
-    parts = text.lower().split("x")
+    """``N`` (square) or ``WxH``, for argparse."""
     try:
-        values = [int(p) for p in parts]
-    except ValueError:
-        values = []
-    if len(values) not in (1, 2) or min(values) < 1:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a size: give N or WIDTHxHEIGHT, "
-                                         "e.g. 2048 or 2048x1024")
-    return (values[0], values[-1])
+        return parse_size(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def _param_help(name: str) -> tuple[type, str, tuple]:
@@ -163,8 +159,8 @@ def _add_method_options(parser: argparse.ArgumentParser) -> None:
         "method", "the synthesis method and its parameters (texsynth.methods(); each "
         "parameter applies to the methods named in its help, defaults are the method's own)")
     names = [m.name for m in methods()]
-    group.add_argument("--method", default=_DEFAULT_METHOD, choices=names, metavar="M",
-                       help=f"synthesis method: {', '.join(names)} (default {_DEFAULT_METHOD}; "
+    group.add_argument("--method", default=DEFAULT_METHOD, choices=names, metavar="M",
+                       help=f"synthesis method: {', '.join(names)} (default {DEFAULT_METHOD}; "
                             "`texsynth methods` describes them)")
     group.add_argument("--seed", type=int, default=0,
                        help="random seed: same inputs and seed, the same bits (default 0)")
@@ -192,12 +188,12 @@ def method_params(args) -> dict:
     stray = sorted(set(given) - known)
     if stray:
         flags = ", ".join("--" + s.replace("_", "-") for s in stray)
-        raise CliError(f"{flags}: not a parameter of --method {method.name} (its parameters: "
-                       f"{', '.join(sorted(known)) or 'none'})", 2)
+        raise UsageError(f"{flags}: not a parameter of --method {method.name} (its parameters: "
+                         f"{', '.join(sorted(known)) or 'none'})")
     try:
         method.resolve(given)
     except ValueError as error:
-        raise CliError(f"--method {method.name}: {error}", 2) from None
+        raise UsageError(f"--method {method.name}: {error}") from None
     return given
 
 
@@ -220,105 +216,42 @@ def _add_output_options(parser: argparse.ArgumentParser, maps: bool) -> None:
 
 # --- the subcommands ------------------------------------------------------------------------
 
-def _read(path: Path):
+def _file_job(args, operation: str, **fields) -> Job:
+    """The command line's one job, checked as a batch's are (``texsynth.jobs``)."""
+    out = args.output
+    job = Job(photo=str(args.photo), maps=tuple(map(str, args.maps)), operation=operation,
+              outputs=(str(out), *(str(out.with_name(m.stem + out.suffix)) for m in args.maps)),
+              seed=args.seed, bits=args.bits or _bits(args.photo), data=args.data,
+              preview=str(out.with_name(out.stem + "_tiled.png")) if args.preview else None,
+              **fields)
+    check_plan([job])
+    preflight([job])
+    return job
+
+
+def _bits(path: Path) -> int:
     try:
-        return read_photo(path)
-    except FileNotFoundError:
-        raise CliError(f"{path}: no such file", 3) from None
-    except (ValueError, OSError) as error:
-        text = str(error)
-        raise CliError(text if str(path) in text else f"{path}: {text}", 3) from None
+        return png_bits(path)
+    except OSError:
+        return 8  # unreadable: preflight names it
 
 
-def _check_output(path: Path, inputs: list[Path]) -> None:
-    """Before reading anything: the suffix, and not an input."""
-    if path.suffix.lower() not in SUFFIXES:
-        raise CliError(f"-o {path}: the output's suffix must be .png or .exr", 2)
-    resolved = path.resolve()
-    for source in inputs:
-        if source.resolve() == resolved:
-            raise CliError(f"-o {path}: would overwrite the input {source}", 2)
-
-
-def _make_folder(path: Path) -> None:
-    """After the inputs were read, before the work: the output's folder, made and writable."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise CliError(f"{path.parent}: cannot make the folder ({error.strerror})", 4) from None
-    if not os.access(path.parent, os.W_OK):
-        raise CliError(f"{path.parent}: the folder cannot be written", 4)
-
-
-def _map_outputs(output: Path, maps: list[Path]) -> list[Path]:
-    return [output.with_name(m.stem + output.suffix) for m in maps]
-
-
-def _read_maps(maps: list[Path], shape) -> list:
-    found = []
-    for path in maps:
-        image = _read(path)
-        if image.shape[:2] != shape[:2]:
-            raise CliError(f"{path}: {image.shape[1]} x {image.shape[0]}, not the photo's "
-                           f"{shape[1]} x {shape[0]}", 3)
-        found.append(image)
-    return found
-
-
-def _write(path: Path, image, source: Path, args, colour: bool) -> None:
-    if colour and not args.data:
-        image = encode(image, from_linear=is_linear(source), to_linear=is_linear(path))
-    bits = args.bits or png_bits(source)
-    try:
-        write_image(path, image, bits=bits)
-    except OSError as error:
-        raise CliError(f"{path}: cannot write ({error.strerror or error})", 4) from None
-    print(f"wrote {path}")
-
-
-def _write_all(args, result, positions, maps, moved_by=apply_positions) -> None:
-    outputs = _map_outputs(args.output, args.maps)
-    _write(args.output, result, args.photo, args, colour=True)
-    if args.preview:
-        preview = args.output.with_name(args.output.stem + "_tiled.png")
-        _write(preview, tile_preview(result, 2, 2), args.photo, args, colour=True)
-    for path, source, image in zip(outputs, args.maps, maps, strict=True):
-        _write(path, moved_by(positions, image), source, args, colour=False)
+def _execute(job: Job, bar: Bar) -> None:
+    written = execute(job, progress=bar)
+    bar.close()
+    for path in written:
+        print(f"wrote {path}")
 
 
 def run_synthesize(args, bar: Bar) -> None:
     params = method_params(args)
     width, height = args.size
-    if args.maps and not get_method(args.method).positions:
-        copying = ", ".join(m.name for m in methods() if m.positions)
-        raise CliError(f"--maps: --method {args.method} does not copy photo pixels, so other "
-                       f"maps cannot follow it; use one of {copying}", 2)
-    for path in [args.output, *_map_outputs(args.output, args.maps)]:
-        _check_output(path, [args.photo, *args.maps])
-    photo = _read(args.photo)
-    maps = _read_maps(args.maps, photo.shape)
-    _make_folder(args.output)
-    if args.maps:
-        result, positions = synthesize_positions(photo, width, height, method=args.method,
-                                                 seed=args.seed, progress=bar, **params)
-    else:
-        result = synthesize_image(photo, width, height, method=args.method, seed=args.seed,
-                                  progress=bar, **params)
-        positions = None
-    bar.close()
-    _write_all(args, result, positions, maps)
+    _execute(_file_job(args, "synthesize", method=args.method, width=width, height=height,
+                       params=tuple(sorted(params.items()))), bar)
 
 
 def run_tile(args, bar: Bar) -> None:
-    for path in [args.output, *_map_outputs(args.output, args.maps)]:
-        _check_output(path, [args.photo, *args.maps])
-    photo = _read(args.photo)
-    maps = _read_maps(args.maps, photo.shape)
-    _make_folder(args.output)
-    result, positions = make_tileable_positions(photo, band=args.band, seed=args.seed,
-                                                progress=bar)
-    bar.close()
-    _write_all(args, result, positions, maps, functools.partial(follow, band=args.band))
+    _execute(_file_job(args, "tile", band=args.band), bar)
 
 
 def _estimate(args, photo):
@@ -333,7 +266,7 @@ def _estimate(args, photo):
 
 
 def run_estimate(args, bar: Bar) -> None:
-    photo = _read(args.photo)
+    photo = read_input(args.photo)
     bar(0.0, "estimating the plane")
     plane, origin = _estimate(args, photo)
     bar(1.0, "estimated")
@@ -352,9 +285,10 @@ def _json_default(value):
 
 
 def run_rectify(args, bar: Bar) -> None:
-    _check_output(args.output, [args.photo])
-    photo = _read(args.photo)
-    _make_folder(args.output)
+    job = Job(photo=str(args.photo), outputs=(str(args.output),), operation="rectify")
+    check_plan([job])
+    photo = read_input(args.photo)
+    check_folder(args.output.parent)
     bar(0.0, "estimating the plane")
     plane, origin = _estimate(args, photo)
     bar(0.7, "rectifying")
@@ -364,7 +298,11 @@ def run_rectify(args, bar: Bar) -> None:
     print(f"slant {plane.slant:.1f} deg, tilt {plane.tilt:.1f} deg, focal "
           f"{'orthographic' if plane.focal_px is None else f'{plane.focal_px:.0f} px'} "
           f"({origin}), confidence {plane.confidence:.2f}", file=sys.stderr)
-    _write(args.output, frontal, args.photo, args, colour=True)
+    if not args.data:
+        frontal = encode(frontal, from_linear=is_linear(args.photo),
+                         to_linear=is_linear(args.output))
+    write_outputs([(str(args.output), frontal)], args.bits or _bits(args.photo))
+    print(f"wrote {args.output}")
 
 
 def run_methods(args, bar: Bar) -> None:
@@ -386,30 +324,25 @@ def run_methods(args, bar: Bar) -> None:
 def run_batch(args, bar: Bar) -> None:
     params = method_params(args)
     if args.workers is not None and args.workers < 1:
-        raise CliError(f"--workers: at least 1 worker process, got {args.workers}", 2)
+        raise UsageError(f"--workers: at least 1 worker process, got {args.workers}")
     defaults = batch_module.Defaults(
         operations=tuple(args.operation or ("synthesize",)), method=args.method,
         size=args.size, seed=args.seed, params=params, band=args.band, format=args.format,
         bits=args.bits, data=args.data)
-    try:
-        jobs = batch_module.plan(args.source, args.output, defaults)
-    except FileNotFoundError as error:
-        raise CliError(str(error), 3) from None
-    except ValueError as error:
-        raise CliError(str(error), 2) from None
+    jobs = batch_module.plan(args.source, args.output, defaults)
     try:
         summary = batch_module.run(jobs, scheduler=args.scheduler, workers=args.workers,
                                    progress=bar)
     except ImportError as error:
-        raise CliError(f"batch needs Dask: pip install \"texsynth[batch]\" ({error})", 1) from None
+        raise JobError(f"batch needs Dask: pip install \"texsynth[batch]\" ({error})") from None
     except ConnectionError as error:
-        raise CliError(f"--scheduler {error}", 1) from None
+        raise UsageError(f"--scheduler {error}") from None
     bar.close()
     print(summary.line())
     for failure in summary.failed:
         print(f"failed: {failure}", file=sys.stderr)
     if summary.failed:
-        raise CliError(f"{len(summary.failed)} of {summary.total} tasks failed", 1)
+        raise JobError(f"{len(summary.failed)} of {summary.total} tasks failed")
 
 
 # --- the parser ------------------------------------------------------------------------------
@@ -417,7 +350,7 @@ def run_batch(args, bar: Bar) -> None:
 def build_parser() -> argparse.ArgumentParser:
     """The whole command line (``texsynth --help``; ``texsynth COMMAND --help`` for each)."""
     formatter = argparse.RawDescriptionHelpFormatter
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="texsynth", formatter_class=formatter, epilog=_EPILOG,
         description="Seamless (tileable) textures from photos: example-based texture synthesis.")
     parser.add_argument("--version", action="version", version=f"texsynth {batch_module.version()}")
@@ -502,30 +435,31 @@ def main(argv=None) -> int:
     heeger_bergen: ...
     0
     """
-    parser = build_parser()
-    args = parser.parse_args(argv)
     logging.getLogger("exifread").setLevel(logging.ERROR)  # "no EXIF" is an answer, not news
-    bar = Bar(quiet=args.quiet)
+    bar = Bar(quiet=True)
     try:
+        args = build_parser().parse_args(argv)
+        bar = Bar(quiet=args.quiet)
         args.run(args, bar)
-    except CliError as error:
-        bar.close()
-        print(f"texsynth: error: {error}", file=sys.stderr)
-        return error.code
-    except Cancelled:
-        bar.close()
-        print("texsynth: cancelled; nothing written", file=sys.stderr)
-        return 130
-    except KeyboardInterrupt:
-        bar.close()
-        print("texsynth: interrupted; nothing half-written is left", file=sys.stderr)
-        return 130
+    except (Cancelled, KeyboardInterrupt):
+        return _fail(bar, "interrupted; nothing half-written is left", 130)
+    except JobError as error:
+        return _fail(bar, f"error: {error}", error.code)
+    except BudgetError as error:
+        return _fail(bar, f"error: {error}", RefusedError.code)
     except ValueError as error:
-        bar.close()
-        print(f"texsynth: error: {error}", file=sys.stderr)
-        return 1
+        return _fail(bar, f"error: {error}", JobError.code)
     except MemoryError:
-        bar.close()
-        print("texsynth: error: out of memory; try a smaller --size", file=sys.stderr)
-        return 1
+        return _fail(bar, "error: out of memory; try a smaller --size", JobError.code)
+    except Exception as error:  # a bug: one line, the whole story with TEXSYNTH_DEBUG=1
+        if os.environ.get("TEXSYNTH_DEBUG"):
+            raise
+        return _fail(bar, f"internal error: {type(error).__name__}: {error} (TEXSYNTH_DEBUG=1 "
+                     "shows where; please report it)", JobError.code)
     return 0
+
+
+def _fail(bar: Bar, text: str, code: int) -> int:
+    bar.close()
+    print(f"texsynth: {text}", file=sys.stderr)
+    return code

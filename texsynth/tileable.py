@@ -88,7 +88,8 @@ from .blocks import poisson
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
-__all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict"]
+__all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict",
+           "check"]
 
 #: Narrowest band accepted, and the default band's least width (pixels).
 MIN_BAND, DEFAULT_MIN = 8, 16
@@ -467,6 +468,34 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     return make_tileable_positions(photo, band=band, seed=seed, progress=progress)[0]
 
 
+def check(shape, *, band: int | None = None, seed: int = 0) -> tuple[int, int]:
+    """Every check :func:`make_tileable` makes before any work, from the photo's shape alone:
+    ``(band, seed)`` as it takes them, or ``ValueError`` (``BudgetError`` over a budget).
+
+    Examples
+    --------
+    >>> check((512, 512, 3))
+    (64, 0)
+    """
+    validation.check_side(shape, MIN_SIDE, "photo")
+    seed = validation.seed(seed)
+    h, w = shape[:2]
+    widest = _widest((h, w))
+    if widest < MIN_BAND:  # no band is possible: say so, not "between 8 and 7 pixels"
+        raise ValueError(f"photo is {w} x {h} pixels, too small to make tileable: even a band "
+                         f"of {MIN_BAND} pixels would change more than half of it; use a larger "
+                         "photo (28 x 28 pixels at least)")
+    band = default_band((h, w)) if band is None else validation.whole(band, "band (pixels)", 1)
+    if not MIN_BAND <= band <= widest:
+        raise ValueError(f"band must be between {MIN_BAND} and {widest} pixels (wider would "
+                         f"change more than half of the {w} x {h} photo), got {band}")
+    what = f"making the {w} x {h} photo tileable"
+    seconds, peak = predict((h, w, shape[2] if len(shape) == 3 else 1), band)
+    validation.check_memory(peak, what, "a narrower band")
+    budget.check_time(seconds, what, "try a smaller photo or a narrower band")
+    return band, seed
+
+
 def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                             progress: Callable[[float, str], object] | None = None
                             ) -> tuple[np.ndarray, np.ndarray]:
@@ -483,26 +512,13 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     ...     8:40, 8:40]).all())
     (True, True)
     """
-    a = validation.image(photo, what="photo", min_side=MIN_SIDE)
-    seed = validation.seed(seed)
+    a = validation.image(photo, what="photo", min_side=1)
+    band, seed = check(a.shape, band=band, seed=seed)
     h, w, c = a.shape
-    widest = _widest((h, w))
-    if widest < MIN_BAND:  # no band is possible: say so, not "between 8 and 7 pixels"
-        raise ValueError(f"photo is {w} x {h} pixels, too small to make tileable: even a band "
-                         f"of {MIN_BAND} pixels would change more than half of it; use a larger "
-                         "photo (28 x 28 pixels at least)")
-    band = default_band((h, w)) if band is None else validation.whole(band, "band (pixels)", 1)
-    if not MIN_BAND <= band <= widest:
-        raise ValueError(f"band must be between {MIN_BAND} and {widest} pixels (wider would "
-                         f"change more than half of the {w} x {h} photo), got {band}")
     # Values of huge or tiny magnitude are quilted at an exact power-of-two scale (squared
     # differences near 1e30 overflow float32), and the result is the photo's own pixels.
     scale = validation.magnitude_scale(a)
     given, a = a, a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
-    what = f"making the {w} x {h} photo tileable"
-    seconds, peak = predict(a.shape, band)
-    validation.check_memory(peak, what, "a narrower band")
-    budget.check_time(seconds, what, "try a smaller photo or a narrower band")
     report = Progress(progress)
     report(0.0, "Make tileable: starting")
 

@@ -9,9 +9,10 @@ the checked array itself.
 - :func:`whole` and :func:`finite`: a bounded whole number, a finite real number;
 - :func:`params`: keyword arguments against a method's typed ``Param`` records;
 - :func:`magnitude_scale`: the power of two that brings huge or tiny values to order one;
+- :func:`check_side`: an image's shape large enough (what a file's header alone can tell);
 - :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget
   (the time budget is :mod:`texsynth.budget`'s); :func:`budget_variable` reads either
-  budget's environment variable.
+  budget's environment variable; a run over either budget raises :class:`BudgetError`.
 """
 
 from __future__ import annotations
@@ -20,11 +21,17 @@ import os
 
 import numpy as np
 
-__all__ = ["MAX_SIDE", "image", "size", "seed", "number", "whole", "finite", "params",
-           "magnitude_scale", "memory_budget", "budget_variable", "check_memory"]
+__all__ = ["MAX_SIDE", "BudgetError", "image", "check_side", "size", "seed", "number", "whole",
+           "finite", "params", "magnitude_scale", "memory_budget", "budget_variable",
+           "check_memory"]
 
 #: Largest output side accepted (pixels).
 MAX_SIDE = 16384
+
+
+class BudgetError(ValueError):
+    """A run refused before any work because it is predicted to exceed the time or memory
+    budget (a ``ValueError``, so callers that catch those still do)."""
 
 
 def image(array, *, what: str = "exemplar", min_side: int = 8,
@@ -47,16 +54,29 @@ def image(array, *, what: str = "exemplar", min_side: int = 8,
     if channels is not None and a.shape[2] not in channels:
         listed = ", ".join(map(str, channels[:-1])) + f" or {channels[-1]}"
         raise ValueError(f"{what} must have {listed} channels, got {a.shape[2]}")
-    h, w = a.shape[:2]
-    if min(h, w) < min_side:
-        raise ValueError(f"{what} is {w} x {h} pixels; this needs at least "
-                         f"{min_side} x {min_side}")
+    check_side(a.shape, min_side, what)
     a = np.ascontiguousarray(a, dtype=np.float32)
     # NaN and infinities show in the extremes: two passes and no (H, W, C) mask of a 12 MP photo.
     if finite and a.size and not (np.isfinite(a.min()) and np.isfinite(a.max())):
         raise ValueError(f"{what} contains NaN or infinite values; clamp or repair the image "
                          "first")
     return a
+
+
+def check_side(shape, side: int, what: str = "exemplar") -> None:
+    """``ValueError`` when an image of ``shape`` (H, W, ...) is smaller than ``side`` x ``side``.
+
+    Examples
+    --------
+    >>> check_side((12, 40, 3), 8)
+    >>> check_side((4, 40), 8, "photo")
+    Traceback (most recent call last):
+    ...
+    ValueError: photo is 40 x 4 pixels; this needs at least 8 x 8
+    """
+    h, w = shape[:2]
+    if min(h, w) < side:
+        raise ValueError(f"{what} is {w} x {h} pixels; this needs at least {side} x {side}")
 
 
 def size(width, height) -> tuple[int, int]:
@@ -174,9 +194,9 @@ def budget_variable(name: str, default: float, unit: str, *, whole: bool = False
 
 
 def check_memory(need: float, what: str, advice: str = "") -> None:
-    """``ValueError`` before allocating when ``need`` bytes exceed :func:`memory_budget`."""
+    """:class:`BudgetError` before allocating when ``need`` bytes exceed :func:`memory_budget`."""
     budget = memory_budget()
     if need > budget:
-        raise ValueError(f"{what} needs about {need / 2**30:.1f} GiB, over the budget of "
+        raise BudgetError(f"{what} needs about {need / 2**30:.1f} GiB, over the budget of "
                          f"{budget / 2**30:.1f} GiB (set TEXSYNTH_MEMORY_BUDGET to raise it"
                          f"{', or ' + advice if advice else ''})")

@@ -1,0 +1,183 @@
+"""Nothing lost: the command line and batches refuse, before any work, a plan that would write
+over an input, write two outputs to one file or feed a folder's outputs back in; every error is
+one line with its exit code; resume redoes an output whose bytes changed."""
+
+import numpy as np
+import pytest
+
+from texsynth import batch, cli, jobs
+from texsynth.io import read_png, write_exr, write_png
+
+from _images import ramp_photo
+
+FAST = ["--method", "heeger_bergen", "--scales", "2"]
+
+
+def _run(capsys, *argv):
+    code = cli.main(["-q", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _tree(folder):
+    return {p: p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture()
+def lib(tmp_path):
+    folder = tmp_path / "lib"
+    folder.mkdir()
+    write_png(folder / "good.png", ramp_photo((48, 48)))
+    return folder
+
+
+def _one_error_line(err, named):
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and named in lines[0] and "Traceback" not in err, err
+
+
+def test_a_batch_never_writes_over_a_photo_it_lists(lib, capsys):
+    second = lib / "good_random_phase_32x32_s0.png"
+    write_png(second, ramp_photo((48, 48), seed=3))
+    (lib / "list.csv").write_text("photo\ngood.png\ngood_random_phase_32x32_s0.png\n")
+    before = _tree(lib)
+    code, _, err = _run(capsys, "batch", lib / "list.csv", "-o", lib, "--size", "32",
+                        "--method", "random_phase")
+    assert code == 2
+    _one_error_line(err, "would overwrite the input")
+    assert _tree(lib) == before
+
+
+def test_a_batch_into_its_own_folder_is_refused(lib, capsys):
+    before = _tree(lib)
+    code, _, err = _run(capsys, "batch", lib, "-o", lib, "--size", "32", *FAST)
+    assert code == 2
+    _one_error_line(err, "next run")
+    assert _tree(lib) == before
+
+
+@pytest.mark.parametrize("outputs, named", [
+    (["-o", "{out}/o.png", "--maps", "{m}/o.png"], "same file"),
+    (["-o", "{out}/t.png", "--maps", "{m}/rough.png", "{n}/rough.png"], "same file"),
+    (["-o", "{out}/o.png", "--preview", "--maps", "{m}/o_tiled.png"], "same file"),
+])
+def test_outputs_that_would_be_one_file_are_refused(tmp_path, capsys, outputs, named):
+    for folder in ("m", "n"):
+        (tmp_path / folder).mkdir()
+        for name in ("o.png", "rough.png", "o_tiled.png"):
+            write_png(tmp_path / folder / name, ramp_photo((48, 48)))
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    before = _tree(tmp_path)
+    argv = [a.format(out=tmp_path / "out", m=tmp_path / "m", n=tmp_path / "n") for a in outputs]
+    code, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "--size", "32", *argv)
+    assert code == 2
+    _one_error_line(err, named)
+    assert _tree(tmp_path) == before and not (tmp_path / "out").exists()
+
+
+def test_a_map_with_nan_is_refused_and_nothing_is_written(tmp_path, capsys):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    bad = ramp_photo((48, 48)).copy()
+    bad[5:10, 5:10] = np.nan
+    write_exr(tmp_path / "rough.exr", bad)
+    for command in ("synthesize", "tile"):
+        code, _, err = _run(capsys, command, tmp_path / "photo.png", "-o", tmp_path / "o.png",
+                            "--maps", tmp_path / "rough.exr",
+                            *(["--size", "32", "--method", "multiscale_mrf"]
+                              if command == "synthesize" else []))
+        assert code == 3
+        _one_error_line(err, "rough.exr: 75 NaN or infinite values")
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png", "rough.exr"]
+
+
+def test_a_write_that_fails_midway_leaves_no_output_at_all(tmp_path, capsys, monkeypatch):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    write_png(tmp_path / "normal.png", ramp_photo((48, 48), seed=2))
+    (tmp_path / "out").mkdir()
+    write_png(tmp_path / "out" / "o.png", ramp_photo((8, 8)))  # an old output: kept whole
+    old = (tmp_path / "out" / "o.png").read_bytes()
+    calls = []
+
+    def full_disk(path, image, bits=8):
+        calls.append(path)
+        if len(calls) == 2:
+            raise OSError(28, "No space left on device")
+        write_png(path, image, bits=bits)
+
+    monkeypatch.setattr(jobs, "write_image", full_disk)
+    code, _, err = _run(capsys, "tile", tmp_path / "photo.png", "-o", tmp_path / "out" / "o.png",
+                        "--maps", tmp_path / "normal.png")
+    assert code == 4 and len(calls) == 2
+    _one_error_line(err, "No space left on device")
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["o.png"]
+    assert (tmp_path / "out" / "o.png").read_bytes() == old
+
+
+@pytest.mark.parametrize("make, code, named", [
+    (lambda p: p.write_bytes(p.read_bytes()[:200]), 3, "photo.png"),  # truncated PNG
+    (lambda p: p.write_bytes(b"\x76\x2f\x31\x01"), 3, "photo.png"),  # an EXR's magic alone
+    (lambda p: (p.unlink(), p.mkdir()), 3, "is a folder"),
+])
+def test_unreadable_photos_are_one_line_with_exit_3(tmp_path, capsys, make, code, named):
+    photo = tmp_path / "photo.png"
+    write_png(photo, ramp_photo((64, 64)))
+    make(photo)
+    got, _, err = _run(capsys, "tile", photo, "-o", tmp_path / "o.png")
+    assert got == code
+    _one_error_line(err, named)
+    assert not (tmp_path / "o.png").exists()
+
+
+@pytest.mark.parametrize("argv, code, named", [
+    (["--size", "0"], 2, "--size"),
+    (["--size", "100000"], 2, "100000"),
+    (["--seed", "-1"], 2, "seed"),
+    (["--bogus"], 2, "--bogus"),
+])
+def test_argument_errors_are_one_line_with_exit_2(tmp_path, capsys, argv, code, named):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    got, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "-o", tmp_path / "o.png",
+                       *FAST, *argv)
+    assert got == code
+    _one_error_line(err, named)
+
+
+def test_an_unwritable_output_is_refused_before_the_work(tmp_path, capsys, monkeypatch):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    monkeypatch.setattr(jobs, "execute", lambda *a, **k: pytest.fail("the work ran"))
+    code, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "-o", "/proc/x/o.png",
+                        *FAST)
+    assert code == 4
+    _one_error_line(err, "/proc/x")
+
+
+def test_over_the_time_budget_is_exit_5(tmp_path, capsys, monkeypatch):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", "0.000001")
+    code, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "-o", tmp_path / "o.png",
+                        *FAST)
+    assert code == 5
+    _one_error_line(err, "time budget")
+    assert not (tmp_path / "o.png").exists()
+
+
+def test_a_manifest_that_is_not_utf8_is_one_line_with_exit_3(lib, tmp_path, capsys):
+    (lib / "list.csv").write_bytes("photo\ngood.png\nm\xe9tal.png\n".encode("latin-1"))
+    code, _, err = _run(capsys, "batch", lib / "list.csv", "-o", tmp_path / "out")
+    assert code == 3
+    _one_error_line(err, "list.csv:3: not UTF-8")
+
+
+def test_resume_redoes_an_output_whose_bytes_changed_or_whose_code_changed(lib, tmp_path,
+                                                                          monkeypatch):
+    defaults = batch.Defaults(method="heeger_bergen", size=(32, 32), params={"scales": 2})
+    (job,) = batch.plan(lib, tmp_path / "out", defaults)
+    assert jobs.run_job(job) == "done" and jobs.run_job(job) == "skipped"
+    out = tmp_path / "out" / job.outputs[0]
+    good = out.read_bytes()
+    out.write_bytes(good[:100])  # truncated after the batch
+    assert jobs.run_job(job) == "done" and out.read_bytes() == good
+    write_png(out, read_png(out)[::-1])  # overwritten by another image
+    assert jobs.run_job(job) == "done" and out.read_bytes() == good
+    monkeypatch.setattr(jobs, "code_digest", lambda: "other code")
+    assert not jobs.is_done(job, jobs.key(job))

@@ -1,0 +1,462 @@
+"""Photos in, files out: the one path of the ``texsynth`` command and of its batches.
+
+A :class:`Job` is one photo (and the other maps of its material) through one operation into
+named files. The command line makes one job, :mod:`texsynth.batch` one per photo and
+operation of a folder or a manifest; every check is written here, once, and runs in this order:
+
+1. :func:`check_plan`, before any file is opened: every output's format is known, no output is
+   an input (by path, link or inode), no two outputs are one file, and no output would be taken
+   as a photo of the same folder on the next run;
+2. :func:`preflight`, before any work: every input is a readable image of the right size
+   (headers alone), the sizes, seeds and parameters are valid, the run fits the time and
+   memory budgets (``api.check``, ``tileable.check``), and every output folder takes a file;
+3. :func:`execute`: read, synthesize or tile, check that every result is finite, then write
+   every output to a temporary file and rename them all only when all are complete, so a
+   failure leaves no partial set;
+4. :func:`run_job`, a batch's task: :func:`execute` unless the outputs are already there,
+   read back with the bytes their key records (:func:`key`, :func:`is_done`).
+
+Every refusal is a :class:`JobError` with one line naming the file, manifest row, column or
+option, and an exit status (:data:`EXIT_CODES`) that means one thing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cache
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from . import api, tileable, validation
+from .blocks.periodic import tile_preview
+from .io.files import SUFFIXES, TEMP_PREFIX, encode, is_linear, read_photo, write_image
+from .positions import apply_positions
+from .registry import get_method, methods
+
+__all__ = ["DEFAULT_METHOD", "EXIT_CODES", "OPERATIONS", "PHOTO_SUFFIXES", "KEYS", "JobError",
+           "UsageError", "InputError", "OutputError", "RefusedError", "Job", "parse_size",
+           "check_plan", "preflight", "check_folder", "read_input", "execute", "write_outputs",
+           "run_job", "key", "is_done", "version", "code_digest"]
+
+#: Exit status of the command line, each with one meaning.
+EXIT_CODES = {
+    0: "success",
+    1: "texsynth refused or failed the work (the message says what to change), or some of a "
+       "batch's tasks failed",
+    2: "the command line or a manifest is wrong (an option, a value, outputs that collide)",
+    3: "an input file is missing or cannot be read as an image",
+    4: "an output cannot be written (nothing is left half-written)",
+    5: "refused before any work: over the time or memory budget (TEXSYNTH_TIME_BUDGET, "
+       "TEXSYNTH_MEMORY_BUDGET)",
+    130: "interrupted (Ctrl+C): nothing half-written is left",
+}
+#: The method when none is named: the README's "any photo, a look first".
+DEFAULT_METHOD = "multiscale_mrf"
+#: What a job can do with a photo.
+OPERATIONS = ("synthesize", "tile")
+#: Files taken as photos (a folder's, and the suffixes an output must not take in its source).
+PHOTO_SUFFIXES = (".png", ".exr", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
+#: The folder of a batch's keys, inside the output folder.
+KEYS = ".texsynth"
+
+
+class JobError(Exception):
+    """One line naming the file, row, column or option, with its exit status ``code``."""
+
+    code = 1
+
+
+class UsageError(JobError):
+    """The command line or a manifest is wrong."""
+
+    code = 2
+
+
+class InputError(JobError):
+    """An input is missing or cannot be read as an image."""
+
+    code = 3
+
+
+class OutputError(JobError):
+    """An output cannot be written."""
+
+    code = 4
+
+
+class RefusedError(JobError):
+    """Over the time or memory budget."""
+
+    code = 5
+
+
+@dataclass(frozen=True)
+class Job:
+    """One photo (and its other maps) through one operation into ``outputs``.
+
+    ``outputs`` holds the photo's result, then each map's; ``preview`` the result tiled 2 x 2,
+    if asked. ``origin`` names where the job came from in errors: ``""`` for the command line
+    (errors name its options), ``"lib.csv:3"`` for a manifest row, the photo for a folder.
+    """
+
+    photo: str
+    outputs: tuple[str, ...]
+    maps: tuple[str, ...] = ()
+    operation: str = "synthesize"
+    method: str = DEFAULT_METHOD
+    width: int = 1024
+    height: int = 1024
+    seed: int = 0
+    band: int | None = None
+    params: tuple[tuple[str, object], ...] = ()
+    bits: int = 8
+    data: bool = False
+    preview: str | None = None
+    origin: str = ""
+
+    def recipe(self) -> dict:
+        """The parameters that decide the outputs' bits (the key's second half)."""
+        fields = dict(operation=self.operation, seed=self.seed, bits=self.bits, data=self.data,
+                      suffixes=[Path(o).suffix.lower() for o in self.outputs])
+        if self.operation == "synthesize":
+            fields.update(method=self.method, width=self.width, height=self.height,
+                          params=dict(self.params))
+        else:
+            fields.update(band=self.band)
+        return fields
+
+    def at(self, option: str, column: str | None = None) -> str:
+        """How an error names a value: ``--size`` on the command line, ``lib.csv:3: size``."""
+        if self.origin:
+            return f"{self.origin}: {column or option.replace('-', '_')}"
+        return f"--{option}"
+
+    def all_outputs(self) -> tuple[str, ...]:
+        return (*self.outputs, *([self.preview] if self.preview else []))
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``N`` (square) or ``WxH`` as (width, height); ``ValueError`` saying what a size is.
+
+    Examples
+    --------
+    >>> parse_size("2048"), parse_size("2048x1024")
+    ((2048, 2048), (2048, 1024))
+    """
+    parts = str(text).strip().lower().split("x")
+    try:
+        values = [int(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2) or min(values) < 1:
+        raise ValueError(f"'{text}' is not a size: give N or WIDTHxHEIGHT, e.g. 2048 or "
+                         "2048x1024")
+    return values[0], values[-1]
+
+
+# --- 1. the plan ----------------------------------------------------------------------------
+
+def _identity(path: str) -> tuple:
+    """What makes two paths one file: the resolved path (case folded where the system
+    folds it), and the inode of a file that exists (hard links)."""
+    p = Path(path)
+    resolved = os.path.normcase(str(p.resolve()))
+    try:
+        st = p.stat()
+    except OSError:
+        return (resolved,)
+    return (resolved, (st.st_dev, st.st_ino))
+
+
+def check_plan(jobs: list[Job], source_folder=None) -> None:
+    """Refuse, before any file is opened, a plan that would lose a file.
+
+    Raises :class:`UsageError` when an output's suffix is not a format texsynth writes, an
+    output is an input of any job, two outputs are one file, or (``source_folder``: the
+    folder whose photos are the inputs) an output would be read as a photo of that folder on
+    the next run.
+
+    Examples
+    --------
+    >>> job = Job(photo="wall.png", outputs=("wall.png",))
+    >>> check_plan([job])
+    Traceback (most recent call last):
+    ...
+    texsynth.jobs.UsageError: -o wall.png: would overwrite the input wall.png
+    """
+    inputs: dict = {}
+    for job in jobs:
+        for path in (job.photo, *job.maps):
+            for part in _identity(path):
+                inputs[part] = path
+    written: dict = {}
+    again = None if source_folder is None else _identity(str(source_folder))[0]
+    for job in jobs:
+        for out in job.all_outputs():
+            name = f"{job.origin}: {out}" if job.origin else f"-o {out}"
+            if Path(out).suffix.lower() not in SUFFIXES:
+                raise UsageError(f"{name}: the output's suffix must be one of "
+                                 f"{', '.join(SUFFIXES)}")
+            parts = _identity(out)
+            for part in parts:
+                if part in inputs:
+                    raise UsageError(f"{name}: would overwrite the input {inputs[part]}")
+                if part in written:
+                    raise UsageError(f"{name}: the same file as the output {written[part]}; "
+                                     "give the outputs different names")
+            if (again is not None and Path(out).suffix.lower() in PHOTO_SUFFIXES
+                    and _identity(str(Path(out).parent))[0] == again):
+                raise UsageError(f"-o {Path(out).parent}: the outputs would be read as photos "
+                                 "of the same folder on the next run; choose another folder")
+            for part in parts:
+                written[part] = out
+
+
+# --- 2. before any work ---------------------------------------------------------------------
+
+def read_input(path, *, header: bool = False):
+    """An input image as float32 (H, W, C), or :class:`InputError` naming the file.
+
+    ``header``: only the shape (H, W, C), as cheaply as the format allows.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder, not an image file")
+    try:
+        image = read_photo(path)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except (ValueError, OSError, EOFError) as error:
+        text = getattr(error, "strerror", None) or str(error)
+        raise InputError(text if str(path) in text else f"{path}: {text}") from None
+    return image.shape if header else image
+
+
+def preflight(jobs: list[Job]) -> None:
+    """Check every job as far as it can be without the work, then make the output folders.
+
+    Raises :class:`InputError` for an input that is missing, a folder or not a readable image,
+    or a map of another size than its photo; :class:`UsageError` for a bad size, seed, band or
+    parameter; :class:`RefusedError` over a budget; :class:`OutputError` when an output folder
+    cannot be made or written (checked by making and removing a temporary file in it).
+    """
+    shapes: dict[str, tuple] = {}
+
+    def shape(job, path):
+        if path not in shapes:
+            try:
+                shapes[path] = read_input(path, header=True)
+            except InputError as error:
+                raise InputError(f"{job.origin}: {error}" if job.origin else str(error)) from None
+        return shapes[path]
+
+    for job in jobs:
+        photo = shape(job, job.photo)
+        for path in job.maps:
+            if shape(job, path)[:2] != photo[:2]:
+                raise InputError(f"{job.origin + ': ' if job.origin else ''}{path}: "
+                                 f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
+                                 f"photo's {photo[1]} x {photo[0]}")
+        _check_run(job, photo)
+    for folder in dict.fromkeys(Path(out).parent for job in jobs for out in job.all_outputs()):
+        check_folder(folder)
+
+
+def _check_run(job: Job, shape) -> None:
+    """The method's own checks (``api.check``, ``tileable.check``) on the photo's shape."""
+    if job.operation not in OPERATIONS:
+        raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
+                         f"{job.operation!r}")
+    try:
+        if job.operation == "tile":
+            tileable.check(shape, band=job.band, seed=job.seed)
+            return
+        method = get_method(job.method)
+        if job.maps and not method.positions:
+            copying = ", ".join(m.name for m in methods() if m.positions)
+            raise UsageError(f"{job.at('maps')}: method {job.method} does not copy photo "
+                             f"pixels, so other maps cannot follow it; use one of {copying}")
+        api.check(shape, job.width, job.height, method=job.method, seed=job.seed,
+                  **dict(job.params))
+    except validation.BudgetError as error:
+        raise RefusedError(f"{job.origin + ': ' if job.origin else ''}{job.photo}: "
+                           f"{error}") from None
+    except ValueError as error:
+        raise UsageError(f"{job.origin + ': ' if job.origin else ''}{job.photo}: "
+                         f"{error}") from None
+
+
+def check_folder(folder: Path) -> None:
+    """Make ``folder`` (and its parents) and write and remove a file in it, or
+    :class:`OutputError` naming it: before the work, not after it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=TEMP_PREFIX + "probe-", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as error:
+        raise OutputError(f"{folder}: cannot write there ({error.strerror or error})") from None
+
+
+# --- 3. the work ----------------------------------------------------------------------------
+
+def _finite(image: np.ndarray, path: str, what: str) -> None:
+    bad = int(np.count_nonzero(~np.isfinite(image)))
+    if bad:
+        raise (InputError if what == "input" else JobError)(
+            f"{path}: {bad} NaN or infinite values" + ("; repair the file first"
+                                                       if what == "input" else ""))
+
+
+def execute(job: Job, progress: Callable[[float, str], object] | None = None) -> list[str]:
+    """Do ``job`` and write its outputs (overwriting any file of the same name); the paths.
+
+    Inputs are read (EXIF orientation applied) and checked finite, the work runs with
+    ``progress``, every result is checked finite, and the outputs are written to temporary
+    files in their folders and renamed over their names only when all are complete.
+    """
+    photo = read_input(job.photo)
+    _finite(photo, job.photo, "input")
+    maps = [read_input(path) for path in job.maps]
+    for path, image in zip(job.maps, maps, strict=True):
+        _finite(image, path, "input")
+    if job.operation == "tile":
+        result, positions = tileable.make_tileable_positions(photo, band=job.band,
+                                                             seed=job.seed, progress=progress)
+        moved = [tileable.follow(positions, image, band=job.band) for image in maps]
+    elif maps:
+        result, positions = api.synthesize_positions(photo, job.width, job.height,
+                                                     method=job.method, seed=job.seed,
+                                                     progress=progress, **dict(job.params))
+        moved = [apply_positions(positions, image) for image in maps]
+    else:
+        result = api.synthesize(photo, job.width, job.height, method=job.method, seed=job.seed,
+                                progress=progress, **dict(job.params))
+        moved = []
+    if not job.data:
+        result = encode(result, is_linear(job.photo), is_linear(job.outputs[0]))
+    images = [result, *moved]
+    if job.preview:
+        preview = tile_preview(result, 2, 2)
+        images.append(preview if job.data else encode(preview, is_linear(job.outputs[0]),
+                                                      is_linear(job.preview)))
+    for path, image in zip(job.all_outputs(), images, strict=True):
+        _finite(image, path, "output")
+    write_outputs(list(zip(job.all_outputs(), images, strict=True)), job.bits)
+    return list(job.all_outputs())
+
+
+def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
+    """Write every ``(path, image)`` to a temporary file beside it, then rename all of them:
+    a failure (a full disk, a folder gone) removes the temporary files and leaves the old
+    files as they were. :class:`OutputError` naming the file."""
+    temps = []
+    try:
+        for path, image in files:
+            path = Path(path)
+            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
+                                        dir=path.parent)
+            os.close(fd)
+            temps.append(temp)
+            try:
+                write_image(temp, image, bits=bits)
+            except (OSError, ValueError) as error:
+                reason = getattr(error, "strerror", None) or error
+                raise OutputError(f"{path}: cannot write ({reason})") from None
+        for (path, _), temp in zip(files, temps, strict=True):
+            os.replace(temp, path)
+    except OSError as error:
+        raise OutputError(f"cannot write ({error.strerror or error})") from None
+    finally:
+        for temp in temps:
+            Path(temp).unlink(missing_ok=True)
+
+
+# --- 4. keys: resume ------------------------------------------------------------------------
+
+@cache
+def code_digest() -> str:
+    """SHA-256 of texsynth's own source files: new code, new keys (a checkout has no version
+    number that changes with it)."""
+    root = Path(__file__).parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()
+
+
+def version() -> str:
+    """The installed texsynth's version (``checkout`` when not installed by pip)."""
+    try:
+        return metadata.version("texsynth")
+    except metadata.PackageNotFoundError:
+        return "checkout"
+
+
+def _file_digest(path) -> str:
+    with open(path, "rb") as f:
+        return hashlib.file_digest(f, "sha256").hexdigest()
+
+
+def key(job: Job) -> str:
+    """SHA-256 of the inputs' bytes, the job's recipe, and texsynth's code."""
+    h = hashlib.sha256(json.dumps([code_digest(), job.recipe()], sort_keys=True).encode())
+    for path in (job.photo, *job.maps):
+        h.update(_file_digest(path).encode())
+    return h.hexdigest()
+
+
+def _key_path(output: str) -> Path:
+    out = Path(output)
+    return out.parent / KEYS / (out.name + ".key")
+
+
+def is_done(job: Job, job_key: str) -> bool:
+    """Every output is there with its key and the very bytes that were written with it."""
+    for out in job.outputs:
+        try:
+            record = json.loads(_key_path(out).read_text())
+            if record.get("key") != job_key or record.get("sha256") != _file_digest(out):
+                return False
+        except (OSError, ValueError, AttributeError):
+            return False
+    return True
+
+
+def _write_key(output: str, job_key: str) -> None:
+    path = _key_path(output)
+    path.parent.mkdir(exist_ok=True)
+    temp = path.with_name(f"{TEMP_PREFIX}{path.name}-{os.getpid()}")
+    temp.write_text(json.dumps({"key": job_key, "sha256": _file_digest(output)}))
+    os.replace(temp, path)
+
+
+def run_job(job: Job) -> str:
+    """A batch's task: ``"skipped"`` when :func:`is_done`, else :func:`execute` and the keys,
+    ``"done"``. Errors propagate as :class:`JobError` (Dask hands them back to the batch).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> write_image(folder / "sand.png", np.random.default_rng(0).random((32, 32, 3)))
+    >>> job = Job(photo=str(folder / "sand.png"), outputs=(str(folder / "out.png"),),
+    ...           method="heeger_bergen", width=24, height=24)
+    >>> preflight([job])
+    >>> run_job(job), run_job(job)
+    ('done', 'skipped')
+    """
+    job_key = key(job)
+    if is_done(job, job_key):
+        return "skipped"
+    execute(job)
+    for out in job.outputs:
+        _write_key(out, job_key)
+    return "done"
