@@ -1,24 +1,28 @@
 """Every photo of a folder or manifest through texsynth on Dask: survives lost workers, resumes.
 
 :func:`plan` turns a folder (every image file in it) or a manifest (CSV or TSV, one row per
-task) into :class:`Job` records; :func:`run` sends the jobs that are not done yet to Dask
-distributed (a local cluster of worker processes, or a running scheduler) as independent tasks
-of :func:`run_job`. Dask is imported by :func:`run` alone: the rest of the core never needs it
-(``pip install "texsynth[batch]"``).
+task) into :class:`~texsynth.jobs.Job` records, checked as the command line checks its one job
+(:mod:`texsynth.jobs`: outputs that are inputs, outputs that are one file, a folder that would
+read its own outputs next time, every photo, map, size, seed and parameter, the budgets and the
+output folder, all before the cluster starts); :func:`run` sends the jobs that are not done yet
+to Dask distributed (a local cluster of worker processes, or a running scheduler) as
+independent tasks of :func:`~texsynth.jobs.run_job`. Dask is imported by :func:`run` alone:
+the rest of the core never needs it (``pip install "texsynth[batch]"``).
 
 The properties a batch keeps:
 
 - **A task is a pure function** of its inputs' content and its parameters: the output's *key*
-  is the SHA-256 of both (and of texsynth's version); same key, same bits.
-- **Atomic writes**: every file goes to a temporary file in the output folder and is renamed
-  over its name when complete (``texsynth.io.write_image``); the keys, in ``OUTDIR/.texsynth/``,
-  are written the same way after the outputs. A task killed mid-write leaves a
-  ``.texsynth-tmp-*`` file, which the batch removes when it ends.
+  is the SHA-256 of both and of texsynth's source code; same key, same bits.
+- **Atomic writes**: a task's files go to temporary files in the output folder and are renamed
+  over their names when all are complete; the keys, in ``OUTDIR/.texsynth/``, are written the
+  same way after the outputs. A task killed mid-write leaves ``.texsynth-tmp-*`` files, which
+  the batch removes when it ends.
 - **Lost workers**: Dask runs a lost worker's tasks again on another worker. A task first looks
   for its outputs with its key and does nothing when they are there, so an output that was
   finished before the worker died is not written twice.
-- **Resume**: :func:`run` leaves out the jobs whose outputs all carry their key; a re-run does
-  only what is missing, and starts no cluster when nothing is.
+- **Resume**: :func:`run` leaves out the jobs whose outputs all carry their key and the bytes
+  it records; a re-run does only what is missing or changed (an output deleted, truncated or
+  overwritten, a changed photo, new code), and starts no cluster when nothing is.
 
 A manifest has a header row and these columns (only ``photo`` is required; an empty cell takes
 the command line's value): ``photo``, ``maps`` (other maps of the material, ``;``-separated),
