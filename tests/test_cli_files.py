@@ -2,6 +2,8 @@
 over an input, write two outputs to one file or feed a folder's outputs back in; every error is
 one line with its exit code; resume redoes an output whose bytes changed."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -181,3 +183,13 @@ def test_resume_redoes_an_output_whose_bytes_changed_or_whose_code_changed(lib, 
     assert jobs.run_job(job) == "done" and out.read_bytes() == good
     monkeypatch.setattr(jobs, "code_digest", lambda: "other code")
     assert not jobs.is_done(job, jobs.key(job))
+
+
+def test_the_exit_codes_are_listed_in_help_and_in_the_batch_guide(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["tile", "--help"])
+    text = capsys.readouterr().out
+    guide = (Path(__file__).resolve().parents[1] / "docs" / "BATCH.md").read_text()
+    for code in jobs.EXIT_CODES:
+        assert f"  {code} " in text and f"| {code} |" in guide, code
+    assert "existing files" in text
