@@ -35,7 +35,7 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("out"))
     args = parser.parse_args(argv)
 
-    photo = io.read_image(args.photo)
+    photo = io.read_photo(args.photo)
     try:
         focal_px = args.focal_px if args.focal_px is not None else \
             texsynth.focal_px_from_file(args.photo)
