@@ -9,6 +9,7 @@ import pytest
 from PIL import Image, ImageOps
 
 from texsynth import io
+from texsynth.blocks.resample import resample
 from texsynth.io import files, png
 
 
@@ -193,3 +194,15 @@ def test_exr_write_errors_are_os_errors(tmp_path):
     with pytest.raises(OSError, match="OpenEXR could not write"):
         io.write_exr(tmp_path / "missing folder" / "a.exr", np.zeros((2, 2, 3)))
 
+
+
+@pytest.mark.parametrize("channels", [1, 2, 4])
+@pytest.mark.parametrize("size", [(50, 37), (23, 71), (160, 90)])  # smaller, mixed, larger
+def test_resample_keeps_the_mean_and_the_channels(channels, size):
+    a = np.random.default_rng(4).random((60, 80, channels), np.float32) * 3.0
+    b = resample(a, *size)
+    assert b.shape == (size[1], size[0], channels) and b.dtype == np.float32
+    np.testing.assert_allclose(b.mean(axis=(0, 1)), a.mean(axis=(0, 1)), rtol=1e-5)
+    np.testing.assert_allclose(resample(a, 40, 30), a.reshape(30, 2, 40, 2, channels)
+                               .mean(axis=(1, 3)), rtol=1e-5)  # a whole factor: block means
+    assert b.min() >= a.min() - 1e-6 and b.max() <= a.max() + 1e-6  # averages: no ringing
