@@ -81,6 +81,18 @@ def test_jpeg_drops_alpha_and_tiff_is_read_by_pillow_too(tmp_path):
         np.testing.assert_array_equal(np.asarray(im), np.rint(a * 255))
 
 
+@pytest.mark.parametrize("name, mode, options", [
+    ("palette.png", "P", {}), ("interlaced.png", "RGB", {"interlace": 1}),
+    ("lzw.tif", "RGB", {"compression": "tiff_lzw"}), ("cmyk.tif", "CMYK", {}),
+    ("grey-alpha.tif", "LA", {}), ("photo.webp", "RGBA", {"lossless": True})])
+def test_kinds_the_own_codecs_leave_to_pillow(tmp_path, name, mode, options):
+    path = tmp_path / name
+    Image.fromarray(_photo(6, 9)).convert(mode).save(path, **options)
+    a = io.read_photo(path)
+    assert io.image_size(path) == (a.shape[1], a.shape[0], a.shape[2])
+    assert a.shape[:2] == (6, 9) and a.dtype == np.float32
+
+
 def test_16_bit_tiff_with_predictor_is_read_exactly(tmp_path):
     q = np.random.default_rng(3).integers(0, 65536, (5, 6)).astype(np.uint16)
     Image.fromarray(q).save(tmp_path / "p.tif", compression="tiff_adobe_deflate", predictor=2)

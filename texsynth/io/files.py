@@ -75,8 +75,8 @@ def read_photo(path) -> np.ndarray:
     try:
         if kind == "exr":
             return check_finite(exr.read_exr(path), path)  # no EXIF: shown as stored
-        a = png.read_png(path) if kind == "png" else tiff.read_tiff(path) if kind == "tiff" \
-            else None
+        a = _own(png.read_png, path) if kind == "png" else tiff.read_tiff(path) \
+            if kind == "tiff" else None
         if a is None:
             return _read_pillow(path)
         return np.ascontiguousarray(orient(a, exif_orientation(path)))
@@ -106,11 +106,14 @@ def image_size(path) -> tuple[int, int, int]:
     try:
         if kind == "exr":
             return exr.exr_size(path)
-        if kind in ("png", "tiff"):
-            w, h, c = (png.png_size if kind == "png" else tiff.tiff_size)(path)
-        else:
+        own = _own(png.png_size, path) if kind == "png" else tiff.tiff_size(path) \
+            if kind == "tiff" else None
+        w, h, c = own or (None, None, None)
+        if c is None:
             with _pillow(path)[0].open(path) as im:  # lazy: the header only
-                (w, h), c = im.size, _CHANNELS[_pillow_mode(im)]
+                c = _CHANNELS[_pillow_mode(im)]
+                # a TIFF's stored size (Pillow's is turned when it turns the pixels on load)
+                w, h = (w, h) if w else im.size
         return (h, w, c) if exif_orientation(path) in TURNED else (w, h, c)
     except ImageReadError:
         raise
@@ -135,6 +138,14 @@ def check_finite(image: np.ndarray, path) -> np.ndarray:
         raise ImageReadError(f"{path}: {bad} of {image.size} values are NaN or infinite; "
                              "repair or clamp the file first")
     return image
+
+
+def _own(decode, path):
+    """``decode(path)``, or None for a PNG that Pillow is to read (palette, interlaced...)."""
+    try:
+        return decode(path)
+    except png.UnsupportedPNG:
+        return None
 
 
 def _kind(path) -> str:

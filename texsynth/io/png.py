@@ -1,6 +1,7 @@
 """PNG files with zlib and numpy alone: non-interlaced 8/16-bit grey, grey + alpha, RGB, RGBA.
 
-Palette, 1/2/4-bit and interlaced files raise ``ValueError``.
+Palette, 1/2/4-bit and interlaced files raise :class:`UnsupportedPNG` (a ``ValueError``:
+``texsynth.io.read_photo`` reads them with Pillow).
 """
 
 from __future__ import annotations
@@ -13,11 +14,15 @@ import numpy as np
 
 from ..validation import image
 
-__all__ = ["read_png", "write_png", "png_size", "SIGNATURE"]
+__all__ = ["read_png", "write_png", "png_size", "SIGNATURE", "UnsupportedPNG"]
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # PNG colour type -> channels in the file.
 _CHANNELS = {0: 1, 2: 3, 4: 2, 6: 4}
+
+
+class UnsupportedPNG(ValueError):
+    """A sound PNG of a kind this module does not decode (palette, 1/2/4-bit, interlaced)."""
 
 
 def write_png(path, array, bits: int = 8) -> None:
@@ -71,7 +76,7 @@ def read_png(path) -> np.ndarray:
         raise ValueError(f"{path}: PNG has no IHDR or IDAT chunk")
     w, h, bits, colour_type, _, _, interlace = header
     if colour_type not in _CHANNELS or bits not in (8, 16) or interlace:
-        raise ValueError(
+        raise UnsupportedPNG(
             f"{path}: unsupported PNG (colour type {colour_type}, {bits}-bit, interlace "
             f"{interlace}); supported: non-interlaced 8/16-bit grey, grey+alpha, RGB, RGBA"
         )
@@ -100,9 +105,10 @@ def png_size(path) -> tuple[int, int, int]:
         head = f.read(33)
     if len(head) < 33 or head[:8] != SIGNATURE or head[12:16] != b"IHDR":
         raise ValueError(f"{path}: not a PNG file, or its IHDR chunk is cut short")
-    w, h, _, colour_type = struct.unpack(">IIBB", head[16:26])
-    if colour_type not in _CHANNELS:
-        raise ValueError(f"{path}: unsupported PNG (colour type {colour_type})")
+    w, h, bits, colour_type, _, _, interlace = struct.unpack(">IIBBBBB", head[16:29])
+    if colour_type not in _CHANNELS or bits not in (8, 16) or interlace:
+        raise UnsupportedPNG(f"{path}: unsupported PNG (colour type {colour_type}, {bits}-bit, "
+                             f"interlace {interlace})")
     return w, h, {0: 1, 2: 3, 4: 4, 6: 4}[colour_type]
 
 

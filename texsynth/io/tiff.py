@@ -59,75 +59,78 @@ def read_tiff(path) -> np.ndarray | None:
     """A TIFF's first image as float32 (H, W, C) in [0, 1] (grey with alpha becomes RGBA), or
     None when it is not one of the kinds this module reads; ``ValueError`` when damaged."""
     with open(path, "rb") as f:
-        data = f.read()
-    order = _ORDER.get(data[:4])
-    if order is None:
-        raise ValueError(f"{path}: not a TIFF file")
+        order, tags = _first_ifd(f, path)
+        if not _readable(tags):
+            return None
+        chunks = []
+        for offset, count in zip(tags[_OFFSETS], tags.get(_COUNTS, []), strict=False):
+            f.seek(offset)
+            chunks.append(f.read(count))
     try:
-        tags = _ifd(data, order, struct.unpack_from(order + "I", data, 4)[0])
-        w, h = tags[_WIDTH][0], tags[_HEIGHT][0]
-        strips = list(zip(tags[_OFFSETS], tags[_COUNTS], strict=True))
-    except (struct.error, KeyError, IndexError, ValueError):
-        raise ValueError(f"{path}: the TIFF's image directory is damaged") from None
-    bits, channels = set(tags.get(_BITS, [1])), tags.get(_SAMPLES, [1])[0]
-    compression, predictor = tags.get(_COMPRESSION, [1])[0], tags.get(_PREDICTOR, [1])[0]
-    if (len(bits) != 1 or bits - {8, 16} or channels not in (1, 2, 3, 4)
-            or compression not in (1, 8, 32946) or predictor not in (1, 2)
-            or tags.get(_PHOTOMETRIC, [1])[0] != (1 if channels <= 2 else 2)
-            or tags.get(_PLANAR, [1])[0] != 1 or tags.get(_FORMAT, [1])[0] != 1
-            or _TILE_WIDTH in tags):
-        return None
-    chunks = [data[o:o + n] for o, n in strips]
-    try:
-        raw = b"".join(zlib.decompress(c) for c in chunks) if compression != 1 else \
+        raw = b"".join(zlib.decompress(c) for c in chunks) if tags[_COMPRESSION][0] != 1 else \
             b"".join(chunks)
     except zlib.error as error:
         raise ValueError(f"{path}: TIFF image data is corrupt ({error})") from None
-    dtype = np.dtype(order + "u2") if bits == {16} else np.dtype("u1")
+    (w,), (h,), (channels,) = tags[_WIDTH], tags[_HEIGHT], tags[_SAMPLES]
+    dtype = np.dtype(order + "u2") if tags[_BITS][0] == 16 else np.dtype("u1")
     need = h * w * channels * dtype.itemsize
     if len(raw) < need:
         raise ValueError(f"{path}: TIFF image data is truncated")
     q = np.frombuffer(raw[:need], dtype).reshape(h, w, channels)
-    if predictor == 2:  # horizontal differencing: each sample from its left neighbour
+    if tags[_PREDICTOR][0] == 2:  # horizontal differencing: each sample from its left one
         q = np.cumsum(q, axis=1, dtype=q.dtype)
     a = q.astype(np.float32) / np.float32(np.iinfo(dtype).max)
     return a[:, :, [0, 0, 0, 1]] if channels == 2 else a
 
 
-def _ifd(data: bytes, order: str, at: int) -> dict:
-    """The tags of the IFD at ``at``: tag -> list of ints (SHORT, LONG and the like only)."""
-    (count,) = struct.unpack_from(order + "H", data, at)
-    tags = {}
-    for i in range(count):
-        tag, kind, n, field = struct.unpack_from(order + "HHI4s", data, at + 2 + 12 * i)
-        if kind not in _CODES:
-            continue
-        size = n * struct.calcsize(_CODES[kind])
-        if size > 4:
-            (offset,) = struct.unpack(order + "I", field)
-            field = data[offset:offset + size]
-            if len(field) < size:  # outside ``data`` (tiff_size reads the IFD alone)
-                continue
-        tags[tag] = list(struct.unpack(f"{order}{n}{_CODES[kind]}", field[:size]))
-    return tags
-
-
-def tiff_size(path) -> tuple[int, int, int]:
-    """(width, height, channels as read, grey with alpha as RGBA) of a TIFF's first image,
-    from its header and first IFD alone (wherever in the file that is)."""
+def tiff_size(path) -> tuple[int, int, int | None]:
+    """(width, height, channels as :func:`read_tiff` gives them) of a TIFF's first image, from
+    its header and first IFD alone; channels None when :func:`read_tiff` leaves it to Pillow."""
     with open(path, "rb") as f:
-        head = f.read(8)
-        order = _ORDER.get(head[:4])
-        if order is None or len(head) < 8:
-            raise ValueError(f"{path}: not a TIFF file")
-        f.seek(struct.unpack(order + "I", head[4:])[0])
-        count = f.read(2)
-        ifd = count + f.read(12 * struct.unpack(order + "H", count)[0]) if len(count) == 2 \
-            else b""
+        _, tags = _first_ifd(f, path)
+    channels = tags[_SAMPLES][0]
+    return tags[_WIDTH][0], tags[_HEIGHT][0], \
+        (4 if channels == 2 else channels) if _readable(tags) else None
+
+
+_DEFAULTS = {_BITS: [1], _SAMPLES: [1], _COMPRESSION: [1], _PREDICTOR: [1], _PLANAR: [1],
+             _FORMAT: [1]}
+
+
+def _first_ifd(f, path) -> tuple[str, dict]:
+    """The byte order and the integer tags (tag -> list of ints, TIFF 6.0's defaults filled
+    in) of the first IFD of the TIFF file ``f``, read by seeking: no pixels."""
+    head = f.read(8)
+    order = _ORDER.get(head[:4])
+    if order is None:
+        raise ValueError(f"{path}: not a TIFF file")
+    tags = dict(_DEFAULTS)
     try:
-        tags = _ifd(ifd, order, 0)
-        w, h = tags[_WIDTH][0], tags[_HEIGHT][0]
-    except (struct.error, KeyError, IndexError):
+        f.seek(struct.unpack(order + "I", head[4:])[0])
+        (count,) = struct.unpack(order + "H", f.read(2))
+        entries = f.read(12 * count)
+        for i in range(count):
+            tag, kind, n, field = struct.unpack_from(order + "HHI4s", entries, 12 * i)
+            if kind not in _CODES:
+                continue
+            size = n * struct.calcsize(_CODES[kind])
+            if size > 4:
+                f.seek(struct.unpack(order + "I", field)[0])
+                field = f.read(size)
+            tags[tag] = list(struct.unpack(f"{order}{n}{_CODES[kind]}", field[:size]))
+        if not tags[_WIDTH][0] or not tags[_HEIGHT][0] or _OFFSETS not in tags:
+            raise ValueError
+    except (struct.error, KeyError, IndexError, ValueError, OverflowError):
         raise ValueError(f"{path}: the TIFF's image directory is damaged") from None
-    channels = tags.get(_SAMPLES, [1])[0]
-    return w, h, 4 if channels == 2 else channels
+    return order, tags
+
+
+def _readable(tags: dict) -> bool:
+    """Whether :func:`read_tiff` reads this kind: 8 or 16 unsigned bits alike in every sample,
+    1 to 4 samples interleaved in strips, grey or RGB, uncompressed or Deflate."""
+    channels = tags[_SAMPLES][0]
+    return (len(set(tags[_BITS])) == 1 and tags[_BITS][0] in (8, 16)
+            and channels in (1, 2, 3, 4) and tags[_COMPRESSION][0] in (1, 8, 32946)
+            and tags[_PREDICTOR][0] in (1, 2) and tags[_PLANAR][0] == 1
+            and tags[_FORMAT][0] == 1 and _TILE_WIDTH not in tags
+            and tags.get(_PHOTOMETRIC, [-1])[0] == (1 if channels <= 2 else 2))
