@@ -109,15 +109,13 @@ def image_size(path) -> tuple[int, int, int]:
         own = _own(png.png_size, path) if kind == "png" else tiff.tiff_size(path) \
             if kind == "tiff" else None
         w, h, c = own or (None, None, None)
-        if c is None:
-            with _pillow(path)[0].open(path) as im:  # lazy: the header only
-                c = _CHANNELS[_pillow_mode(im)]
-                # a TIFF's stored size (Pillow's is turned when it turns the pixels on load)
-                w, h = (w, h) if w else im.size
+        if c is None:  # Pillow's channels, and its size unless a TIFF's IFD gave it: Pillow
+            size, c = _pillow_size(path)  # turns a TIFF's size by its tag, as its pixels
+            w, h = (w, h) if w else size
         return (h, w, c) if exif_orientation(path) in TURNED else (w, h, c)
     except ImageReadError:
         raise
-    except (ValueError, OSError, SyntaxError) as error:
+    except (ValueError, OSError) as error:
         raise ImageReadError(f"{path}: not a readable image file ({error})") from None
 
 
@@ -191,7 +189,7 @@ def _read_pillow(path) -> np.ndarray:
             upright = ImageOps.exif_transpose(im)  # loads the pixels
             mode = _pillow_mode(upright)
             a = np.asarray(upright if mode == "I" else upright.convert(mode))
-    except (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError) as error:
+    except (*_PILLOW_ERRORS, Image.DecompressionBombError) as error:
         raise ImageReadError(f"{path}: not a readable image file ({error})") from None
     a = a if a.ndim == 3 else a[:, :, None]
     if mode == "I":
@@ -199,6 +197,19 @@ def _read_pillow(path) -> np.ndarray:
     return a.astype(np.float32) / np.float32(255)
 
 
+def _pillow_size(path) -> tuple[tuple[int, int], int]:
+    """Pillow's (width, height) and the channels :func:`_read_pillow` gives, from its lazy
+    open (the header only)."""
+    Image, _ = _pillow(path)
+    try:
+        with Image.open(path) as im:
+            return im.size, _CHANNELS[_pillow_mode(im)]
+    except (*_PILLOW_ERRORS, Image.DecompressionBombError) as error:
+        raise ImageReadError(f"{path}: not a readable image file ({error})") from None
+
+
+# What Pillow raises for a damaged file (its plugins' parsers raise SyntaxError and the like).
+_PILLOW_ERRORS = (OSError, ValueError, SyntaxError, EOFError)
 _CHANNELS = {"I": 1, "L": 1, "RGB": 3, "RGBA": 4}
 
 
@@ -218,7 +229,8 @@ def is_linear(path) -> bool:
 def png_bits(path) -> int:
     """The bit depth (8 or 16) for a PNG or TIFF written from the photo in ``path``: its
     samples' for a PNG or TIFF, 16 for OpenEXR (a float file's precision kept), 8 for the rest
-    (JPEG, WebP: 8-bit formats). JPEG output is 8-bit and OpenEXR float whatever this says.
+    (JPEG, WebP: 8-bit formats). JPEG output is 8-bit and OpenEXR float whatever this says;
+    the errors of :func:`read_photo` for a missing file, a folder and the like.
 
     Examples
     --------
@@ -235,10 +247,9 @@ def png_bits(path) -> int:
         return 16 if len(head) == 25 and head[24] == 16 else 8
     if kind == "tiff":
         try:
-            with _pillow(path)[0].open(path) as im:
-                return 16 if max(im.tag_v2.get(258, (8,))) > 8 else 8
-        except (OSError, ValueError, SyntaxError):
-            return 16  # damaged: read_photo says so; meanwhile keep precision
+            return 16 if tiff.tiff_bits(path) > 8 else 8
+        except ValueError as error:
+            raise ImageReadError(str(error)) from None
     return 16 if kind == "exr" else 8
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..validation import image
 
-__all__ = ["read_tiff", "write_tiff", "tiff_size"]
+__all__ = ["read_tiff", "write_tiff", "tiff_size", "tiff_bits"]
 
 _ORDER = {b"II*\x00": "<", b"MM\x00*": ">"}
 _CODES = {1: "B", 3: "H", 4: "I"}  # BYTE, SHORT, LONG: the integer tags read here
@@ -91,6 +91,12 @@ def tiff_size(path) -> tuple[int, int, int | None]:
     channels = tags[_SAMPLES][0]
     return tags[_WIDTH][0], tags[_HEIGHT][0], \
         (4 if channels == 2 else channels) if _readable(tags) else None
+
+
+def tiff_bits(path) -> int:
+    """The most bits of any sample of a TIFF's first image, from its IFD alone."""
+    with open(path, "rb") as f:
+        return max(_first_ifd(f, path)[1][_BITS])
 
 
 _DEFAULTS = {_BITS: [1], _SAMPLES: [1], _COMPRESSION: [1], _PREDICTOR: [1], _PLANAR: [1],
