@@ -244,7 +244,8 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
                     f"{lens}, confidence {result.confidence:.2f}"
                     + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else "")
                     + (f". The file's EXIF turns it (Orientation {turn}) but Blender shows it "
-                       "as stored: the tilt is of the image as shown here" if turn != 1 else ""))
+                       "as stored: the tilt is of the image as shown here"
+                       if turn != 1 and not image.is_dirty else ""))  # dirty: maybe turned
         return {"FINISHED"}
 
 
