@@ -41,7 +41,7 @@ def test_portrait_phone_jpeg_reads_upright(tmp_path):
 @pytest.mark.parametrize("orientation", range(1, 9))
 @pytest.mark.parametrize("suffix, options", [
     (".png", {}), (".tif", {}), (".tif", {"compression": "tiff_lzw"}),  # own codecs; Pillow
-    (".webp", {"lossless": True})])
+    (".webp", {"lossless": True}), (".jpg", {"quality": 95})])
 def test_every_orientation_as_pillow_shows_it(tmp_path, orientation, suffix, options):
     stored = _photo(5, 7)
     path = tmp_path / f"o{suffix}"

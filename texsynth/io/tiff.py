@@ -25,32 +25,34 @@ _EXTRA, _FORMAT, _TILE_WIDTH = 338, 339, 322
 
 
 def write_tiff(path, array, bits: int = 8) -> None:
-    """Write values in [0, 1] (clipped) as an 8- or 16-bit TIFF, one Deflate strip: grey, RGB
-    or RGBA (unassociated alpha)."""
+    """Write values in [0, 1] (clipped) as an 8- or 16-bit TIFF, one Deflate strip with the
+    horizontal predictor (each sample stored as its difference from its left neighbour): grey,
+    RGB or RGBA (unassociated alpha)."""
     if bits not in (8, 16):
         raise ValueError(f"TIFF bit depth must be 8 or 16, got {bits}")
     a = image(array, what="image", min_side=1, finite=False)
     h, w, c = a.shape
     top = (1 << bits) - 1
     q = np.rint(np.clip(np.nan_to_num(a), 0.0, 1.0) * top).astype("<u2" if bits == 16 else "u1")
+    q[:, 1:] -= q[:, :-1].copy()  # modulo 2^bits, as the predictor is defined
     strip = zlib.compress(q.tobytes(), 6)
     entries = [(_WIDTH, 4, [w]), (_HEIGHT, 4, [h]), (_BITS, 3, [bits] * c),
                (_COMPRESSION, 3, [8]), (_PHOTOMETRIC, 3, [1 if c == 1 else 2]),
                (_OFFSETS, 4, [0]), (_SAMPLES, 3, [c]), (_ROWS, 4, [h]),
-               (_COUNTS, 4, [len(strip)]), (_PLANAR, 3, [1])] + \
+               (_COUNTS, 4, [len(strip)]), (_PLANAR, 3, [1]), (_PREDICTOR, 3, [2])] + \
         ([(_EXTRA, 3, [2])] if c == 4 else [])
-    extra_at = 8 + 2 + 12 * len(entries) + 4  # values of more than 4 bytes follow the IFD
-    extra = b"".join(struct.pack(f"<{len(v)}H", *v) for t, k, v in entries if len(v) > 2)
-    data_at = extra_at + len(extra)
-    ifd, at = struct.pack("<H", len(entries)), extra_at
-    for tag, kind, values in entries:
-        values = [data_at] if tag == _OFFSETS else values
-        packed = struct.pack(f"<{len(values)}{_CODES[kind]}", *values)
-        if len(packed) > 4:
-            field, at = struct.pack("<I", at), at + len(packed)
+    packed = [(tag, kind, len(v), struct.pack(f"<{len(v)}{_CODES[kind]}", *v))
+              for tag, kind, v in entries]
+    at = 8 + 2 + 12 * len(entries) + 4  # values of more than 4 bytes follow the IFD
+    extra = b"".join(p for *_, p in packed if len(p) > 4)
+    data_at = at + len(extra)  # then the strip
+    ifd = struct.pack("<H", len(entries))
+    for tag, kind, n, p in packed:
+        if len(p) > 4:
+            field, at = struct.pack("<I", at), at + len(p)
         else:
-            field = packed.ljust(4, b"\x00")
-        ifd += struct.pack("<HHI", tag, kind, len(values)) + field
+            field = (struct.pack("<I", data_at) if tag == _OFFSETS else p).ljust(4, b"\x00")
+        ifd += struct.pack("<HHI", tag, kind, n) + field
     with open(path, "wb") as f:
         f.write(b"II*\x00" + struct.pack("<I", 8) + ifd + struct.pack("<I", 0) + extra + strip)
 
