@@ -27,7 +27,7 @@ import numpy as np
 
 import texsynth
 from texsynth.algorithms import multiscale_mrf as mrf
-from texsynth.io import read_image, write_image
+from texsynth.io import read_photo, write_image
 from texsynth.metrics import (
     course_period,
     course_steps,
@@ -61,7 +61,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     aligned = mrf.ALIGN_PIXELS
     for key in args.photos:
-        z = np.ascontiguousarray(read_image(SHARED_TEXTURES / "large" / PHOTOS[key])[:, :, :3],
+        z = np.ascontiguousarray(read_photo(SHARED_TEXTURES / "large" / PHOTOS[key])[:, :, :3],
                                  np.float32)
         period = course_period(z)
         for seed in args.seeds:

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import metrics
-from texsynth.io import read_image, write_png
+from texsynth.io import read_photo, write_png
 
 REPO = Path(__file__).resolve().parent.parent
 #: ../shared/textures beside the repository; ``TEXSYNTH_SHARED_TEXTURES`` names another place (a
@@ -124,13 +124,13 @@ def load_textures(quick: bool) -> list[Texture]:
     """Every texture of shared/textures (MANIFEST order), or the bundled sample without it."""
     manifest = SHARED_TEXTURES / "MANIFEST.tsv"
     if not manifest.exists():
-        return [Texture("samples/pool_water.png", _rgb(read_image(SAMPLE)), "stochastic",
+        return [Texture("samples/pool_water.png", _rgb(read_photo(SAMPLE)), "stochastic",
                         "CC0")]
     with manifest.open() as f:
         rows = list(csv.DictReader(f, delimiter="\t"))
     if quick:
         rows = [r for r in rows if r["file"] in QUICK_TEXTURES]
-    return [Texture(r["file"], _rgb(read_image(SHARED_TEXTURES / r["file"])), r["category"],
+    return [Texture(r["file"], _rgb(read_photo(SHARED_TEXTURES / r["file"])), r["category"],
                     r["license"]) for r in rows]
 
 

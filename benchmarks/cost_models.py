@@ -19,7 +19,7 @@ import numpy as np
 
 import texsynth
 from texsynth import budget
-from texsynth.io import read_image
+from texsynth.io import read_photo
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -52,7 +52,7 @@ CASES = [
 
 
 def _exemplar(side: int) -> np.ndarray:
-    return np.ascontiguousarray(read_image(REPO / "samples" / "pool_water.png")[:side, :side, :3])
+    return np.ascontiguousarray(read_photo(REPO / "samples" / "pool_water.png")[:side, :side, :3])
 
 
 def measure() -> list[tuple]:

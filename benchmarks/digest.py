@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 import texsynth
-from texsynth.io import read_image
+from texsynth.io import read_photo
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -35,7 +35,7 @@ def _textures() -> dict[str, np.ndarray]:
     y, x = np.mgrid[0:48, 0:48]
     stripes = (0.5 + 0.4 * np.sin(x * 0.7 + 0.3 * y))[:, :, None] + 0.05 * rng.random((48, 48, 1))
     blobs = rng.random((40, 56, 3)).astype(np.float32)
-    return {"pool_water": read_image(REPO / "samples" / "pool_water.png")[:48, :48],
+    return {"pool_water": read_photo(REPO / "samples" / "pool_water.png")[:48, :48],
             "stripes": stripes.astype(np.float32), "noise_rgb": blobs}
 
 
@@ -63,7 +63,7 @@ def digests() -> dict[str, str]:
     result = texsynth.composite.synthesize(textures["pool_water"], 40, 40, seed=8)
     out["composite/api"] = _digest(result.image, result.labels)
     out["segment"] = _digest(texsynth.segmentation.segment(hb))
-    plane = read_image(REPO / "samples" / "pool_water.png")
+    plane = read_photo(REPO / "samples" / "pool_water.png")
     estimate = texsynth.estimate_plane(plane, focal_px=200.0)
     out["estimate_plane"] = _digest(np.array([estimate.slant, estimate.tilt, estimate.confidence]))
     out["rectify"] = _digest(texsynth.rectify(plane, estimate))

@@ -39,7 +39,7 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import ConvexHull
 
-from texsynth.io import read_image
+from texsynth.io import read_photo
 
 from .context import SHARED_TEXTURES
 
@@ -56,7 +56,7 @@ LARGE = 1.5
 
 
 def photo(key: str) -> np.ndarray:
-    return np.ascontiguousarray(read_image(SHARED_TEXTURES / "large" / PHOTOS[key][0])[:, :, :3],
+    return np.ascontiguousarray(read_photo(SHARED_TEXTURES / "large" / PHOTOS[key][0])[:, :, :3],
                                 np.float32)
 
 
@@ -170,11 +170,11 @@ def main() -> None:
             print(line(f"{key} {name}", compare(image, crop, joint, False)), flush=True)
     if args.outputs:
         ref = (np.load(args.source) if args.source and args.source.endswith(".npy")
-               else read_image(args.source)[:, :, :3] if args.source else photo(args.photo))
+               else read_photo(args.source)[:, :, :3] if args.source else photo(args.photo))
         kind, size, threshold = PHOTOS[args.photo][1:]
         joint = (kind, max(3, round(size * args.scale)), threshold)
         for path in args.outputs:
-            out = np.load(path) if path.endswith(".npy") else read_image(path)[:, :, :3]
+            out = np.load(path) if path.endswith(".npy") else read_photo(path)[:, :, :3]
             print(line(path, compare(ref, out, joint)), flush=True)
 
 

@@ -22,7 +22,7 @@ import texsynth
 from texsynth.algorithms import texture_optimization as method
 from texsynth.blocks.recut import straight_runs
 from texsynth.blocks.region_shift import regions
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import gradient_ratio
 
 from .context import SHARED_TEXTURES
@@ -34,7 +34,7 @@ LONG = 64
 
 
 def crop(key: str, n: int) -> np.ndarray:
-    image = read_image(SHARED_TEXTURES / "large" / PHOTOS[key])[:, :, :3]
+    image = read_photo(SHARED_TEXTURES / "large" / PHOTOS[key])[:, :, :3]
     h, w = image.shape[:2]
     top, left = (h - n) // 2, (w - n) // 2
     return np.ascontiguousarray(image[top:top + n, left:left + n], np.float32)

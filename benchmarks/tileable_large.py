@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from texsynth import make_tileable, metrics
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.tileable import default_band, predict
 
 from .sections.photos import LARGE
@@ -23,7 +23,7 @@ def main(seed: int = 0) -> None:
     print("photo | size | seam | in phase | band sharpness | gradient | unchanged | s | "
           "predicted s")
     for name in names:
-        photo = np.ascontiguousarray(read_image(LARGE / name)[:, :, :3], np.float32)
+        photo = np.ascontiguousarray(read_photo(LARGE / name)[:, :, :3], np.float32)
         h, w = photo.shape[:2]
         band = default_band(photo.shape)
         start = time.perf_counter()

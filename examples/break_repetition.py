@@ -39,7 +39,7 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("out"))
     args = parser.parse_args(argv)
 
-    values = io.read_image(args.texture)
+    values = io.read_photo(args.texture)
     if args.srgb:
         values = srgb_to_linear(values).astype(np.float32)
     g = gaussianize(values)

@@ -7,8 +7,8 @@ Estimates the plane's slant and tilt from the texture and its lines (``texsynth.
 the focal length in pixels of PHOTO when known: ``--focal-px``, else the file's EXIF, else
 estimated), prints them, writes the frontal view
 ``<photo>_rectified.png`` and a ``--width`` x ``--height`` seamless texture synthesized from it,
-``<photo>_<method>_<seed>.png`` (``--width 0`` skips the synthesis). PNG or OpenEXR in; no
-Blender needed.
+``<photo>_<method>_<seed>.png`` (``--width 0`` skips the synthesis). Any photo in (PNG,
+OpenEXR, TIFF, JPEG, WebP: read upright, by its EXIF orientation); no Blender needed.
 """
 
 import argparse
@@ -35,7 +35,10 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("out"))
     args = parser.parse_args(argv)
 
-    photo = io.read_image(args.photo)
+    try:
+        photo = io.read_photo(args.photo)
+    except (FileNotFoundError, io.ImageReadError) as error:  # each names the file
+        parser.error(str(error))
     try:
         focal_px = args.focal_px if args.focal_px is not None else \
             texsynth.focal_px_from_file(args.photo)

@@ -41,7 +41,7 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=Path("out"))
     args = parser.parse_args(argv)
 
-    photo = io.read_image(args.photo)
+    photo = io.read_photo(args.photo)
     tiles = wang_tiles(photo, colours=args.colours, seed=args.seed)
     args.out.mkdir(parents=True, exist_ok=True)
     stem = args.out / f"{args.photo.stem}_tiles"
@@ -51,7 +51,7 @@ def main(argv=None):
     preview = wang_tiling(tiles, args.cells * t, args.cells * t, cells=args.cells, seed=args.seed)
     io.write_png(written[1], np.clip(preview, 0.0, 1.0))
     for path in args.maps:
-        other = texsynth.apply_positions(tiles.positions, io.read_image(path))
+        other = texsynth.apply_positions(tiles.positions, io.read_photo(path))
         written.append(f"{stem}_{path.stem}.png")
         io.write_png(written[-1], np.clip(other, 0.0, 1.0))
     layout = {"tile": t, "gutter": tiles.gutter, "colours": tiles.colours,

@@ -29,6 +29,7 @@ import bpy
 from mathutils import Matrix
 
 from ..texsynth import plane as estimate
+from ..texsynth.io import exif_orientation
 from . import output, pixels, source
 
 DEFAULT_DISTANCE = 5.0
@@ -71,12 +72,32 @@ def camera_focal_px(scene, width: int, height: int) -> float:
     return estimate.focal_px_from_lens(data.lens, sensor, width, height, fit)
 
 
-def file_focal_px(image) -> float | None:
-    """The focal length in pixels from the EXIF of the image's file, if it has one on disk."""
+def _file(image) -> str | None:
+    """The path of the image's file on disk, or None (packed, generated, missing)."""
     if image.source != "FILE" or image.packed_file is not None or not image.filepath:
         return None
     path = bpy.path.abspath(image.filepath, library=image.library)
-    return estimate.focal_px_from_file(path) if os.path.isfile(path) else None
+    return path if os.path.isfile(path) else None
+
+
+def file_focal_px(image) -> float | None:
+    """The focal length in pixels from the EXIF of the image's file, if it has one on disk."""
+    path = _file(image)
+    return estimate.focal_px_from_file(path) if path else None
+
+
+def file_orientation(image) -> int:
+    """The EXIF ``Orientation`` of the image's file on disk (1: none, or no file).
+
+    Blender shows and hands out a file's pixels as stored, whatever this says (a portrait phone
+    photo, Orientation 6, lies on its side): the estimate, the camera and the rectified image
+    all keep to the image as Blender shows it, so they agree with each other and with the
+    camera's background; the estimate's report says when the file would be shown turned."""
+    path = _file(image)
+    try:
+        return exif_orientation(path) if path else 1
+    except OSError:
+        return 1
 
 
 def stored_estimate(settings, frontal: bool = False) -> estimate.PlaneEstimate:
@@ -217,10 +238,14 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
             if result.focal_px else ", orthographic"
         either = " (or +180)" if result.tilt_ambiguous_180 else ""
         verdict = estimate.verdict(result)
+        turn = file_orientation(image)
         self.report({"WARNING"} if verdict.guess else {"INFO"},
                     f"'{image.name}': slant {result.slant:.1f}°, tilt {result.tilt:.1f}°{either}"
                     f"{lens}, confidence {result.confidence:.2f}"
-                    + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else ""))
+                    + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else "")
+                    + (f". The file's EXIF turns it (Orientation {turn}) but Blender shows it "
+                       "as stored: the tilt is of the image as shown here"
+                       if turn != 1 and not image.is_dirty else ""))  # dirty: maybe turned
         return {"FINISHED"}
 
 

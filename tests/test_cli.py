@@ -90,7 +90,7 @@ def test_tile_keeps_the_size_and_other_maps_follow(tmp_path, photo, capsys):
 
 @pytest.mark.parametrize("argv, code, named", [
     (["synthesize", "{tmp}/missing.png", "-o", "{tmp}/new/o.png"], 3, "missing.png"),
-    (["synthesize", "{photo}", "-o", "{tmp}/o.jpg"], 2, "o.jpg"),
+    (["synthesize", "{photo}", "-o", "{tmp}/o.webp"], 2, "o.webp"),
     (["synthesize", "{photo}", "-o", "{tmp}/o.png", "--method", "heeger_bergen", "--radius", "2"],
      2, "--radius"),
     (["synthesize", "{photo}", "-o", "{tmp}/o.png", "--method", "heeger_bergen", "--scales",

@@ -9,7 +9,7 @@ from scipy.spatial import cKDTree
 
 import texsynth
 from texsynth.blocks.color import sliced_transfer
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import subband_distance
 
 SAMPLE = Path(__file__).resolve().parent.parent / "samples" / "pool_water.png"
@@ -23,7 +23,7 @@ def _off_palette(exemplar, output, tolerance=0.12):
 
 @pytest.fixture(scope="module")
 def pool_water():
-    return read_image(SAMPLE)[:, :, :3].astype(np.float32)
+    return read_photo(SAMPLE)[:, :, :3].astype(np.float32)
 
 
 def test_heeger_bergen_on_pool_water_invents_no_colours(pool_water):

@@ -1,4 +1,4 @@
-"""texsynth.io: PNG and OpenEXR files, sRGB transfer, tiled previews (no bpy)."""
+"""texsynth.io's codecs: PNG and OpenEXR files, sRGB transfer, tiled previews (no bpy)."""
 
 import struct
 import zlib
@@ -100,13 +100,13 @@ def test_exr_round_trip_is_bit_exact(tmp_path, channels):
     np.testing.assert_array_equal(b, a)
 
 
-def test_read_image_tells_formats_by_content(tmp_path):
+def test_read_photo_tells_formats_by_content(tmp_path):
     a = _image(4, 6, 3)
     io.write_exr(tmp_path / "x.png", a)  # misleading extension
-    np.testing.assert_array_equal(io.read_image(tmp_path / "x.png"), a)
-    (tmp_path / "y.exr").write_bytes(b"P6\n1 1\n255\n\0\0\0")
-    with pytest.raises(ValueError, match="not a PNG or OpenEXR"):
-        io.read_image(tmp_path / "y.exr")
+    np.testing.assert_array_equal(io.read_photo(tmp_path / "x.png"), a)
+    (tmp_path / "y.exr").write_bytes(b"no image at all")
+    with pytest.raises(io.ImageReadError, match="y.exr: not a readable image"):
+        io.read_photo(tmp_path / "y.exr")
 
 
 def test_bad_shapes_are_refused(tmp_path):

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import gradient_ratio
 from texsynth.norepeat import (
     gaussianize,
@@ -28,7 +28,7 @@ SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
 
 @pytest.fixture(scope="module")
 def photo():
-    return read_image(SAMPLE)[:, :, :3].astype(np.float32)
+    return read_photo(SAMPLE)[:, :, :3].astype(np.float32)
 
 
 def test_the_gaussian_texture_is_a_truncated_gaussian_and_the_table_gives_the_photo_back(photo):
@@ -110,9 +110,9 @@ def test_the_example_writes_the_images_for_other_engines(tmp_path):
     example = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(example)
     example.main([str(SAMPLE), "--srgb", "--preview", "2", "--out", str(tmp_path)])
-    gaussian = read_image(tmp_path / "pool_water_tnb_gaussian.exr")
-    table = read_image(tmp_path / "pool_water_tnb_table.exr")
-    preview = read_image(tmp_path / "pool_water_tnb_preview.png")
+    gaussian = read_photo(tmp_path / "pool_water_tnb_gaussian.exr")
+    table = read_photo(tmp_path / "pool_water_tnb_table.exr")
+    preview = read_photo(tmp_path / "pool_water_tnb_preview.png")
     assert gaussian.shape[:2] == (128, 128) and table.shape[:2] == (3, 4096)
     assert preview.shape[:2] == (256, 256)
     assert abs(period_correlation(preview, 128)) < 0.3

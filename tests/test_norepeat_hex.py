@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
 
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import gradient_ratio
 from texsynth.norepeat import hex_tile, hex_weights, period_correlation, predict_hex_memory
 
@@ -20,7 +20,7 @@ SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
 
 @pytest.fixture(scope="module")
 def photo():
-    return read_image(SAMPLE)[:, :, :3].astype(np.float32)
+    return read_photo(SAMPLE)[:, :, :3].astype(np.float32)
 
 
 def test_hex_tiling_stops_the_repeat_and_keeps_the_look(photo):

@@ -9,7 +9,7 @@ import pytest
 from scipy.ndimage import gaussian_filter
 
 import texsynth
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import (
     band_sharpness,
     gradient_ratio,
@@ -59,7 +59,7 @@ def bricks(shape=(320, 384), seed=0):
 
 
 def pool_water():
-    return read_image(SAMPLE)[:, :, :3].astype(np.float32)
+    return read_photo(SAMPLE)[:, :, :3].astype(np.float32)
 
 
 PHOTOS = {"cracked": cracked, "bricks": bricks, "pool_water": pool_water}

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from texsynth.io import read_image, write_png
+from texsynth.io import read_photo, write_png
 
 from ..context import run_child
 
@@ -30,5 +30,5 @@ def gmic(command: str) -> Callable:
             run_child(["gmic", "-srand", str(seed), "-input", str(src),
                        f"-{command}", f"{width},{height}", "-output", str(dst)],
                       env={"OMP_NUM_THREADS": "1"})
-            return read_image(dst)[:, :, :3]
+            return read_photo(dst)[:, :, :3]
     return run

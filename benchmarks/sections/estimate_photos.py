@@ -29,7 +29,7 @@ from benchmarks import manmade, plane_renders
 from benchmarks.context import SHARED_TEXTURES
 from benchmarks.sections.estimate import _exif_jpeg, _score
 from texsynth import plane
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.plane.lines import _RIDGE_SIDE
 from texsynth.plane.spectra import block_factor
 
@@ -137,7 +137,7 @@ def _coverage(scored) -> str:
 def run(ctx) -> str:
     start = time.perf_counter()
     large = SHARED_TEXTURES / "large"
-    photos = {name: read_image(large / name)[:, :, :3] for name in REAL}
+    photos = {name: read_photo(large / name)[:, :, :3] for name in REAL}
     shared = {t.name: t.image for t in ctx.textures}
     made = {n: t for n, (t, _) in manmade.textures().items()}
     real = {name: _reduced(image[SURFACE.get(name, slice(None))])

@@ -14,7 +14,7 @@ import numpy as np
 from benchmarks import norepeat_renders as renders
 from benchmarks.context import SHARED_TEXTURES, fmt
 from texsynth.blocks.color import srgb_to_linear
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.norepeat import gaussianize, predict_memory, predict_tiles_memory, wang_tiles
 
 ORDER = 80
@@ -34,7 +34,7 @@ MODES = (("TILING_AND_BLENDING", "Tiling and Blending"), ("TILE_SET", "Tile Set"
 
 
 def _photo(rel):
-    return read_image(SHARED_TEXTURES / "large" / rel)[:, :, :3].astype(np.float32)
+    return read_photo(SHARED_TEXTURES / "large" / rel)[:, :, :3].astype(np.float32)
 
 
 def _box(photo, side):

@@ -20,7 +20,7 @@ import csv
 import numpy as np
 
 import texsynth
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.metrics import autocorrelation_error, power_spectrum_correlation
 
 from ..context import SHARED_TEXTURES
@@ -41,7 +41,7 @@ def _large(quick: bool):
         rows = list(csv.DictReader(f, delimiter="\t"))
     photos = []
     for row in rows[:1] if quick else rows:
-        image = read_image(LARGE / row["file"])[:, :, :3]
+        image = read_photo(LARGE / row["file"])[:, :, :3]
         photos.append((row["file"], image[:512, :512] if quick else image))
     return photos
 

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import metrics
-from texsynth.io import read_image
+from texsynth.io import read_photo
 from texsynth.tileable import default_band
 
 from .. import jobs, peers
@@ -108,7 +108,7 @@ def camera_photo() -> np.ndarray:
     if not CAMERA_FILE.exists():
         from scipy.ndimage import zoom
 
-        setts = read_image(LARGE / SETTS)[:, :, :3].astype(np.float32)
+        setts = read_photo(LARGE / SETTS)[:, :, :3].astype(np.float32)
         (h, w), (sh, sw) = CAMERA_SOURCE, setts.shape[:2]
         centre = setts[(sh - h) // 2:(sh - h) // 2 + h, (sw - w) // 2:(sw - w) // 2 + w]
         factor = CAMERA_SHAPE[0] / h  # = CAMERA_SHAPE[1] / w
@@ -126,7 +126,7 @@ def photo(key: str) -> np.ndarray:
     """The photo a key names, float32 RGB: ``camera`` (the 12 MP photo) or a file below
     ``large/``, at its own size, or with ``@HxW`` its central H x W."""
     name, _, size = key.partition("@")
-    image = camera_photo() if name == CAMERA else read_image(LARGE / name)[:, :, :3]
+    image = camera_photo() if name == CAMERA else read_photo(LARGE / name)[:, :, :3]
     if size:
         (h, w), (ih, iw) = map(int, size.split("x")), image.shape[:2]
         image = image[(ih - h) // 2:(ih - h) // 2 + h, (iw - w) // 2:(iw - w) // 2 + w]

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from texsynth import metrics
-from texsynth.io import read_image
+from texsynth.io import read_photo
 
 from .. import jobs
 from ..context import SHARED_TEXTURES
@@ -49,7 +49,7 @@ PATCH_SAMPLES = 200  # sampled output patches for the patch distance (each searc
 
 def load(path: Path) -> np.ndarray:
     """The photo as float32 RGB, block-averaged to at most ``EXEMPLAR`` a side."""
-    image = read_image(path)[:, :, :3].astype(np.float32)
+    image = read_photo(path)[:, :, :3].astype(np.float32)
     f = max(1, min(image.shape[:2]) // EXEMPLAR)
     if f > 1:
         h, w = image.shape[0] // f, image.shape[1] // f

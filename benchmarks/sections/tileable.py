@@ -21,7 +21,7 @@ import texsynth
 from benchmarks import peers
 from benchmarks.context import SAMPLE, SHARED_TEXTURES, fmt, timed
 from texsynth import metrics
-from texsynth.io import read_image, write_png
+from texsynth.io import read_photo, write_png
 from texsynth.tileable import default_band
 
 ORDER = 55
@@ -42,7 +42,7 @@ OFF_PALETTE = 0.12  # RGB distance from every exemplar colour that counts as a n
 
 
 def _photo(rel, side):
-    image = read_image(SHARED_TEXTURES / rel)[:, :, :3].astype(np.float32)
+    image = read_photo(SHARED_TEXTURES / rel)[:, :, :3].astype(np.float32)
     if image.shape[2] == 1:
         image = np.repeat(image, 3, axis=2)
     h, w = image.shape[:2]
@@ -113,7 +113,7 @@ def gimp_make_seamless(photos):
         start = time.perf_counter()
         subprocess.run(args, check=True, capture_output=True, timeout=600)
         seconds = time.perf_counter() - start
-        outs = [read_image(Path(tmp, f"out{k}.png"))[:, :, :3].astype(np.float32)
+        outs = [read_photo(Path(tmp, f"out{k}.png"))[:, :, :3].astype(np.float32)
                 for k in range(len(photos))]
     return outs, seconds
 
@@ -248,7 +248,7 @@ def _off_palette(exemplar, output):
 
 
 def _heeger_bergen_colour():
-    ex = read_image(SAMPLE)[:, :, :3].astype(np.float32)
+    ex = read_photo(SAMPLE)[:, :, :3].astype(np.float32)
     lines = ["| output | off-palette share | subband distance |", "|---" * 3 + "|"]
     for side in (256, 512):
         out = texsynth.synthesize(ex, side, side, method="heeger_bergen", seed=SEED)

@@ -73,7 +73,7 @@ def test_bad_input_is_reported_and_changes_nothing(tmp_path, case):
 def test_a_cycles_render_no_longer_repeats_and_looks_like_the_reference():
     """8 x 8 tiles of the CC0 sample at 16 pixels a tile, plain and after; the numpy reference
     at the texture's pixel size, box-averaged to the render's pixels, has the same histogram."""
-    photo = io.read_image(norepeat_renders.REPO / "samples" / "pool_water.png")[:, :, :3]
+    photo = io.read_photo(norepeat_renders.REPO / "samples" / "pool_water.png")[:, :, :3]
     norepeat_renders.scene(photo, 8, 128, 16)
     plain, _ = norepeat_renders.render()
     assert bpy.ops.texsynth.break_repetition(mode="HEX_TILING") == {"FINISHED"}

@@ -179,7 +179,7 @@ def test_a_huge_image_is_refused_before_any_work(monkeypatch):
 def test_a_cycles_render_no_longer_repeats_and_keeps_its_look():
     """8 x 8 tiles of the CC0 sample at 16 pixels a tile, plain and after; the figures the
     issue asks of the benchmark, on a small render."""
-    photo = io.read_image(norepeat_renders.REPO / "samples" / "pool_water.png")[:, :, :3]
+    photo = io.read_photo(norepeat_renders.REPO / "samples" / "pool_water.png")[:, :, :3]
     tree = norepeat_renders.scene(photo, 8, 128, 16)
     plain, _ = norepeat_renders.render()
     before = links(tree)

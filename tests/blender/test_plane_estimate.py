@@ -9,7 +9,7 @@ import pytest
 from mathutils import Vector
 from scenes import fingerprint, generated_image, material_with
 
-from tests._exif import FOCAL_35MM, SHORT, with_exif
+from tests._exif import FOCAL_35MM, ORIENTATION, SHORT, with_exif
 from tests._planes import noise_texture, photograph, spectral_slant
 from texsynth.plane import angles_from_normal, focal_px_from_lens, normal_from_angles
 
@@ -73,6 +73,27 @@ def test_estimate_reads_the_focal_length_from_the_photo_files_exif(photo_pixels,
     got = (math.degrees(settings.slant), math.degrees(settings.tilt))
     n_true, n_got = normal_from_angles(SLANT, TILT), normal_from_angles(*got)
     assert math.degrees(math.acos(min(1.0, n_true @ n_got))) < 6.0
+
+
+def test_a_turned_phone_jpeg_is_estimated_as_blender_shows_it(photo_pixels, tmp_path):
+    """Blender ignores the EXIF orientation (a portrait phone photo lies on its side): the
+    estimate keeps to the image as Blender shows it, so that the camera, its background and the
+    rectified image agree (a tilt of the upright photo would be 90 degrees off)."""
+    generated = _photo(photo_pixels[32:224])  # 256 x 192 as stored
+    path = tmp_path / "portrait.jpg"
+    generated.filepath_raw = str(path)
+    generated.file_format = "JPEG"
+    generated.save()
+    bpy.data.images.remove(generated)
+    path.write_bytes(with_exif(path.read_bytes(), {ORIENTATION: (SHORT, 6)}, {}))
+    bpy.data.images.load(str(path)).name = "photo"
+    assert tuple(bpy.data.images["photo"].size) == (256, 192)
+    bpy.context.scene.texsynth.plane.use_camera_focal = False
+    assert bpy.ops.texsynth.estimate_plane(image="photo") == {"FINISHED"}
+    settings = bpy.context.scene.texsynth.plane
+    assert (settings.image_width, settings.image_height) == (256, 192)
+    got = normal_from_angles(math.degrees(settings.slant), math.degrees(settings.tilt))
+    assert math.degrees(math.acos(min(1.0, normal_from_angles(SLANT, TILT) @ got))) < 10.0
 
 
 def test_align_camera_poses_a_new_camera_on_the_active_plane(photo_pixels):

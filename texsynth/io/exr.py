@@ -6,33 +6,63 @@ import numpy as np
 
 from ..validation import image
 
-__all__ = ["read_exr", "write_exr"]
+__all__ = ["read_exr", "write_exr", "exr_size"]
 
 _LAYOUTS = ("RGBA", "RGB", "YA", "Y")
 
 
 def write_exr(path, array) -> None:
-    """Write float32 channels (Y, RGB or RGBA), ZIP-compressed; reading back gives the same bits."""
+    """Write float32 channels (Y, RGB or RGBA), ZIP-compressed; reading back gives the same bits.
+
+    ``OSError`` naming the file when OpenEXR cannot write it (a missing folder, a full disk)."""
     import OpenEXR  # a bundled wheel, loaded when an EXR is first touched
 
     a = image(array, what="image", min_side=1, finite=False)
     names = {1: "Y", 3: "RGB", 4: "RGBA"}[a.shape[2]]
     channels = {name: np.ascontiguousarray(a[:, :, i]) for i, name in enumerate(names)}
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    with OpenEXR.File(header, channels) as f:
-        f.write(str(path))
+    try:
+        with OpenEXR.File(header, channels) as f:
+            f.write(str(path))
+    except RuntimeError as error:  # OpenEXR's C++ exceptions, an I/O failure among them
+        raise OSError(f"{path}: OpenEXR could not write the file ({error})") from None
 
 
 def read_exr(path) -> np.ndarray:
-    """Read R, G, B (and A), or Y (and A), as float32; grey with alpha becomes RGBA."""
+    """Read R, G, B (and A), or Y (and A), as float32; grey with alpha becomes RGBA.
+
+    ``ValueError`` naming the file when OpenEXR cannot read it (damaged, cut short)."""
     import OpenEXR
 
-    with OpenEXR.File(str(path), separate_channels=True) as f:
-        channels = {name: c.pixels for name, c in f.channels().items()}
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as f:
+            channels = {name: c.pixels for name, c in f.channels().items()}
+    except (RuntimeError, ValueError, OSError) as error:
+        raise ValueError(f"{path}: not a readable OpenEXR file ({error})") from None
+    layout = _layout(path, channels)
+    planes = [channels[name] for name in layout]
+    if layout == "YA":
+        planes = [planes[0]] * 3 + [planes[1]]
+    return np.stack(planes, axis=2).astype(np.float32)
+
+
+def exr_size(path) -> tuple[int, int, int]:
+    """(width, height, channels as :func:`read_exr` gives them) from the header alone."""
+    import OpenEXR
+
+    try:
+        with OpenEXR.File(str(path), header_only=True) as f:  # the header lives with f
+            low, high = (np.asarray(v) for v in f.header()["dataWindow"])
+            names = [c.name for c in f.header()["channels"]]
+    except (RuntimeError, ValueError, OSError, KeyError) as error:
+        raise ValueError(f"{path}: not a readable OpenEXR file ({error})") from None
+    layout = _layout(path, names)
+    return int(high[0] - low[0] + 1), int(high[1] - low[1] + 1), {"Y": 1, "RGB": 3}.get(layout, 4)
+
+
+def _layout(path, channels) -> str:
+    """The first of RGBA, RGB, YA, Y whose channels the file holds."""
     for layout in _LAYOUTS:
         if set(layout) <= set(channels):
-            planes = [channels[name] for name in layout]
-            if layout == "YA":
-                planes = [planes[0]] * 3 + [planes[1]]
-            return np.stack(planes, axis=2).astype(np.float32)
+            return layout
     raise ValueError(f"{path}: no R, G, B or Y channels (found {', '.join(sorted(channels))})")

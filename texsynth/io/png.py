@@ -1,6 +1,7 @@
 """PNG files with zlib and numpy alone: non-interlaced 8/16-bit grey, grey + alpha, RGB, RGBA.
 
-Palette, 1/2/4-bit and interlaced files raise ``ValueError``.
+Palette, 1/2/4-bit and interlaced files raise :class:`UnsupportedPNG` (a ``ValueError``:
+``texsynth.io.read_photo`` reads them with Pillow).
 """
 
 from __future__ import annotations
@@ -13,11 +14,15 @@ import numpy as np
 
 from ..validation import image
 
-__all__ = ["read_png", "write_png", "SIGNATURE"]
+__all__ = ["read_png", "write_png", "png_size", "SIGNATURE", "UnsupportedPNG"]
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # PNG colour type -> channels in the file.
 _CHANNELS = {0: 1, 2: 3, 4: 2, 6: 4}
+
+
+class UnsupportedPNG(ValueError):
+    """A sound PNG of a kind this module does not decode (palette, 1/2/4-bit, interlaced)."""
 
 
 def write_png(path, array, bits: int = 8) -> None:
@@ -44,7 +49,10 @@ def _png_chunk(kind: bytes, data: bytes) -> bytes:
 
 
 def read_png(path) -> np.ndarray:
-    """Read a PNG as float32 (H, W, C) in [0, 1]; grey with alpha becomes RGBA."""
+    """Read a PNG as float32 (H, W, C) in [0, 1]; grey with alpha becomes RGBA.
+
+    ``ValueError`` naming the file when it is damaged: a chunk cut short or failing its CRC,
+    image data that does not inflate to the image's size, an unknown row filter."""
     data = Path(path).read_bytes()
     if data[:8] != SIGNATURE:
         raise ValueError(f"{path}: not a PNG file")
@@ -52,8 +60,13 @@ def read_png(path) -> np.ndarray:
     while pos + 8 <= len(data):
         length, kind = struct.unpack(">I4s", data[pos:pos + 8])
         body = data[pos + 8:pos + 8 + length]
+        crc = data[pos + 8 + length:pos + 12 + length]
+        if len(crc) < 4:
+            raise ValueError(f"{path}: PNG is truncated (its {kind!r} chunk is cut short)")
+        if struct.unpack(">I", crc)[0] != zlib.crc32(kind + body):
+            raise ValueError(f"{path}: PNG is damaged (its {kind!r} chunk fails its CRC)")
         if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
+            header = struct.unpack(">IIBBBBB", body) if length == 13 else None
         elif kind == b"IDAT":
             idat.append(body)
         elif kind == b"IEND":
@@ -63,21 +76,40 @@ def read_png(path) -> np.ndarray:
         raise ValueError(f"{path}: PNG has no IHDR or IDAT chunk")
     w, h, bits, colour_type, _, _, interlace = header
     if colour_type not in _CHANNELS or bits not in (8, 16) or interlace:
-        raise ValueError(
+        raise UnsupportedPNG(
             f"{path}: unsupported PNG (colour type {colour_type}, {bits}-bit, interlace "
             f"{interlace}); supported: non-interlaced 8/16-bit grey, grey+alpha, RGB, RGBA"
         )
     channels = _CHANNELS[colour_type]
     bpp = channels * bits // 8
-    raw = np.frombuffer(zlib.decompress(b"".join(idat)), np.uint8)
+    try:
+        raw = np.frombuffer(zlib.decompress(b"".join(idat)), np.uint8)
+    except zlib.error as error:
+        raise ValueError(f"{path}: PNG image data is truncated or corrupt ({error})") from None
     if raw.size != h * (1 + w * bpp):
         raise ValueError(f"{path}: PNG image data is truncated or corrupt")
-    rows = _unfilter(raw.reshape(h, 1 + w * bpp), bpp)
+    try:
+        rows = _unfilter(raw.reshape(h, 1 + w * bpp), bpp)
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from None
     dtype = ">u2" if bits == 16 else "u1"
     a = rows.view(dtype).reshape(h, w, channels).astype(np.float32) / np.float32((1 << bits) - 1)
     if channels == 2:
         a = a[:, :, [0, 0, 0, 1]]
     return a
+
+
+def png_size(path) -> tuple[int, int, int]:
+    """(width, height, channels as :func:`read_png` gives them) from the IHDR chunk alone."""
+    with open(path, "rb") as f:
+        head = f.read(33)
+    if len(head) < 33 or head[:8] != SIGNATURE or head[12:16] != b"IHDR":
+        raise ValueError(f"{path}: not a PNG file, or its IHDR chunk is cut short")
+    w, h, bits, colour_type, _, _, interlace = struct.unpack(">IIBBBBB", head[16:29])
+    if colour_type not in _CHANNELS or bits not in (8, 16) or interlace:
+        raise UnsupportedPNG(f"{path}: unsupported PNG (colour type {colour_type}, {bits}-bit, "
+                             f"interlace {interlace})")
+    return w, h, {0: 1, 2: 3, 4: 4, 6: 4}[colour_type]
 
 
 def _unfilter(scanlines: np.ndarray, bpp: int) -> np.ndarray:
@@ -96,7 +128,7 @@ def _unfilter(scanlines: np.ndarray, bpp: int) -> np.ndarray:
         elif kind in (3, 4):
             row = _undo_average_or_paeth(line, prior, bpp, paeth=kind == 4)
         else:
-            raise ValueError(f"corrupt PNG: unknown filter type {kind} on row {y}")
+            raise ValueError(f"PNG is damaged: unknown filter type {kind} on row {y}")
         out[y] = prior = row
     return out
 
