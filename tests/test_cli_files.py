@@ -88,7 +88,7 @@ def test_a_map_with_nan_is_refused_and_nothing_is_written(tmp_path, capsys):
                             *(["--size", "32", "--method", "multiscale_mrf"]
                               if command == "synthesize" else []))
         assert code == 3
-        _one_error_line(err, "rough.exr: 75 NaN or infinite values")
+        _one_error_line(err, "rough.exr: 75 of 6912 values are NaN or infinite")
         assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png", "rough.exr"]
 
 

@@ -27,7 +27,8 @@ The properties a batch keeps:
 A manifest has a header row and these columns (only ``photo`` is required; an empty cell takes
 the command line's value): ``photo``, ``maps`` (other maps of the material, ``;``-separated),
 ``operation`` (``synthesize`` or ``tile``), ``method``, ``size`` (``N`` or ``WxH``), ``seed``,
-``band``, ``params`` (``name=value;...``). Paths are relative to the manifest's folder.
+``band``, ``in_size`` (``N`` or ``WxH``: the photo resampled first), ``params``
+(``name=value;...``). Paths are relative to the manifest's folder.
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .io.files import TEMP_PREFIX, png_bits
+from .io.files import TEMP_PREFIX
 from .jobs import (
     DEFAULT_METHOD,
     KEYS,
@@ -52,8 +53,10 @@ from .jobs import (
     Job,
     UsageError,
     check_plan,
+    default_bits,
     is_done,
     key,
+    parse_in_size,
     parse_size,
     preflight,
     run_job,
@@ -80,6 +83,7 @@ class Defaults:
     format: str | None = None  # an output suffix without the dot; None: EXR from EXR, else PNG
     bits: int | None = None
     data: bool = False
+    in_size: tuple[int, int] | None = None  # (W, H); H 0: the longer side W, aspect kept
 
 
 @dataclass
@@ -181,23 +185,27 @@ def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
                      else d.size)
     seed = _value(where, "seed", row["seed"], int) if row.get("seed") else d.seed
     band = _value(where, "band", row["band"], int) if row.get("band") else d.band
+    in_size = (_value(where, "in_size", row["in_size"], parse_in_size) if row.get("in_size")
+               else d.in_size)
     params = dict(d.params)
     for item in filter(None, row.get("params", "").split(";")):
         name, _, value = item.partition("=")
         params[name.strip()] = _value(where, "params", value, _param)
     suffix = "." + (d.format or ("exr" if photo.suffix.lower() == ".exr" else "png"))
-    bits = d.bits or (png_bits(photo) if photo.is_file() else 8)
+    bits = d.bits or default_bits(photo)
     jobs = []
     for operation in operations:
         if operation == "tile":
             tag = f"_tile_s{seed}" + ("" if band is None else f"_b{band}")
         else:
             tag = f"_{method}_{width}x{height}_s{seed}" + _params_tag(params)
+        if in_size is not None:
+            tag += f"_in{in_size[0]}" + (f"x{in_size[1]}" if in_size[1] else "")
         outputs = tuple(str(out_dir / f"{Path(p).stem}{tag}{suffix}") for p in (photo, *maps))
         jobs.append(Job(photo=str(photo), maps=maps, operation=operation, method=method,
                         width=width, height=height, seed=seed, band=band,
                         params=tuple(sorted(params.items())), bits=bits, data=d.data,
-                        outputs=outputs, origin=where))
+                        outputs=outputs, in_size=in_size, origin=where))
     return jobs
 
 

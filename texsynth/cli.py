@@ -29,7 +29,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from . import batch as batch_module
-from .io.files import encode, is_linear, png_bits
+from .io.files import encode, is_linear
 from .jobs import (
     DEFAULT_METHOD,
     EXIT_CODES,
@@ -39,7 +39,9 @@ from .jobs import (
     UsageError,
     check_folder,
     check_plan,
+    default_bits,
     execute,
+    parse_in_size,
     parse_size,
     preflight,
     read_input,
@@ -141,6 +143,14 @@ def _size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def _in_size(text: str) -> tuple[int, int]:
+    """``N`` (the longer side, aspect kept: height 0) or ``WxH``, for argparse."""
+    try:
+        return parse_in_size(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def _param_help(name: str) -> tuple[type, str, tuple]:
     """The option's type, its help (each method that has it, with default and range), choices."""
     owners = [(m, m.param(name)) for m in methods() if name in {p.name for p in m.params}]
@@ -199,7 +209,9 @@ def method_params(args) -> dict:
 
 def _add_output_options(parser: argparse.ArgumentParser, maps: bool) -> None:
     parser.add_argument("-o", "--output", type=Path, required=True, metavar="OUT",
-                        help="output file: .png (8/16-bit) or .exr (float); its folder is made")
+                        help="output file, its format by its suffix: .png (8/16-bit), .exr "
+                             "(float, linear), .jpg (8-bit, quality 95), .tif (8/16-bit); its "
+                             "folder is made")
     parser.add_argument("--bits", type=int, choices=(8, 16), default=None,
                         help="PNG bit depth (default: the input's; 16 from EXR or float input)")
     parser.add_argument("--data", action="store_true",
@@ -207,6 +219,10 @@ def _add_output_options(parser: argparse.ArgumentParser, maps: bool) -> None:
                              "(no sRGB <-> linear conversion between PNG and EXR)")
     parser.add_argument("--preview", action="store_true",
                         help="also write OUT_tiled.png, the result 2 x 2, to look for seams")
+    parser.add_argument("--in-size", type=_in_size, default=None, metavar="N|WxH",
+                        help="resample the photo (and its maps) to this size first: N makes its "
+                             "longer side N, keeping its aspect (a 12 MP photo's features are "
+                             "large at 2048; --in-size 1024 halves them)")
     if maps:
         parser.add_argument("--maps", type=Path, nargs="+", default=[], metavar="MAP",
                             help="other maps of the same material (normal, roughness...), the "
@@ -221,19 +237,12 @@ def _file_job(args, operation: str, **fields) -> Job:
     out = args.output
     job = Job(photo=str(args.photo), maps=tuple(map(str, args.maps)), operation=operation,
               outputs=(str(out), *(str(out.with_name(m.stem + out.suffix)) for m in args.maps)),
-              seed=args.seed, bits=args.bits or _bits(args.photo), data=args.data,
+              seed=args.seed, bits=args.bits or default_bits(args.photo), data=args.data,
               preview=str(out.with_name(out.stem + "_tiled.png")) if args.preview else None,
-              **fields)
+              in_size=args.in_size, **fields)
     check_plan([job])
     preflight([job])
     return job
-
-
-def _bits(path: Path) -> int:
-    try:
-        return png_bits(path)
-    except OSError:
-        return 8  # unreadable: preflight names it
 
 
 def _execute(job: Job, bar: Bar) -> None:
@@ -301,7 +310,7 @@ def run_rectify(args, bar: Bar) -> None:
     if not args.data:
         frontal = encode(frontal, from_linear=is_linear(args.photo),
                          to_linear=is_linear(args.output))
-    write_outputs([(str(args.output), frontal)], args.bits or _bits(args.photo))
+    write_outputs([(str(args.output), frontal)], args.bits or default_bits(args.photo))
     print(f"wrote {args.output}")
 
 
@@ -328,7 +337,7 @@ def run_batch(args, bar: Bar) -> None:
     defaults = batch_module.Defaults(
         operations=tuple(args.operation or ("synthesize",)), method=args.method,
         size=args.size, seed=args.seed, params=params, band=args.band, format=args.format,
-        bits=args.bits, data=args.data)
+        bits=args.bits, data=args.data, in_size=args.in_size)
     jobs = batch_module.plan(args.source, args.output, defaults)
     try:
         summary = batch_module.run(jobs, scheduler=args.scheduler, workers=args.workers,
@@ -402,13 +411,18 @@ def build_parser() -> argparse.ArgumentParser:
                           "(columns: photo, maps, operation, method, size, seed, params)")
     sub.add_argument("-o", "--output", type=Path, required=True, metavar="OUTDIR",
                      help="output folder (made); outputs are named after photo, operation "
-                          "and parameters")
+                          "and parameters. An output whose key and bytes match (a done task) "
+                          "is kept; any other file of its name is replaced when the new one is "
+                          "complete")
     sub.add_argument("--operation", action="append", choices=batch_module.OPERATIONS,
                      help="what to do with each photo (repeat for several; default synthesize)")
     sub.add_argument("--size", type=_size, default=(1024, 1024), metavar="N|WxH",
                      help="synthesized size (default 1024)")
     sub.add_argument("--band", type=int, default=None, help="tile: band width (default side/8)")
-    sub.add_argument("--format", choices=("png", "exr"), default=None,
+    sub.add_argument("--in-size", type=_in_size, default=None, metavar="N|WxH",
+                     help="resample each photo (and its maps) to this size first (N: the "
+                          "longer side, aspect kept)")
+    sub.add_argument("--format", choices=("png", "exr", "jpg", "tif"), default=None,
                      help="output format (default: EXR from EXR input, else PNG)")
     sub.add_argument("--bits", type=int, choices=(8, 16), default=None,
                      help="PNG bit depth (default: the input's)")

@@ -36,14 +36,26 @@ import numpy as np
 
 from . import api, tileable, validation
 from .blocks.periodic import tile_preview
-from .io.files import SUFFIXES, TEMP_PREFIX, encode, is_linear, read_photo, write_image
+from .blocks.resample import resample
+from .io.files import (
+    TEMP_PREFIX,
+    ImageReadError,
+    encode,
+    image_size,
+    is_linear,
+    output_format,
+    png_bits,
+    read_photo,
+    write_image,
+)
 from .positions import apply_positions
 from .registry import get_method, methods
 
 __all__ = ["DEFAULT_METHOD", "EXIT_CODES", "OPERATIONS", "PHOTO_SUFFIXES", "KEYS", "JobError",
            "UsageError", "InputError", "OutputError", "RefusedError", "Job", "parse_size",
-           "check_plan", "preflight", "check_folder", "read_input", "execute", "write_outputs",
-           "run_job", "key", "is_done", "version", "code_digest"]
+           "parse_in_size", "check_plan", "preflight", "check_folder", "read_input",
+           "default_bits", "in_shape", "execute", "write_outputs", "run_job", "key", "is_done",
+           "version", "code_digest"]
 
 #: Exit status of the command line, each with one meaning.
 EXIT_CODES = {
@@ -102,8 +114,10 @@ class Job:
     """One photo (and its other maps) through one operation into ``outputs``.
 
     ``outputs`` holds the photo's result, then each map's; ``preview`` the result tiled 2 x 2,
-    if asked. ``origin`` names where the job came from in errors: ``""`` for the command line
-    (errors name its options), ``"lib.csv:3"`` for a manifest row, the photo for a folder.
+    if asked; ``in_size`` (width, height) resamples the photo and its maps before the work
+    (the texel scale: :func:`in_shape`). ``origin`` names where the job came from in errors:
+    ``""`` for the command line (errors name its options), ``"lib.csv:3"`` for a manifest row,
+    the photo for a folder.
     """
 
     photo: str
@@ -119,12 +133,14 @@ class Job:
     bits: int = 8
     data: bool = False
     preview: str | None = None
+    in_size: tuple[int, int] | None = None  # the photo and maps resampled to (W, H) first
     origin: str = ""
 
     def recipe(self) -> dict:
         """The parameters that decide the outputs' bits (the key's second half)."""
         fields = dict(operation=self.operation, seed=self.seed, bits=self.bits, data=self.data,
-                      suffixes=[Path(o).suffix.lower() for o in self.outputs])
+                      suffixes=[Path(o).suffix.lower() for o in self.outputs],
+                      in_size=self.in_size)
         if self.operation == "synthesize":
             fields.update(method=self.method, width=self.width, height=self.height,
                           params=dict(self.params))
@@ -159,6 +175,19 @@ def parse_size(text: str) -> tuple[int, int]:
         raise ValueError(f"'{text}' is not a size: give N or WIDTHxHEIGHT, e.g. 2048 or "
                          "2048x1024")
     return values[0], values[-1]
+
+
+def parse_in_size(text: str) -> tuple[int, int]:
+    """``--in-size``: ``N`` as (N, 0), the longer side N with the aspect kept (:func:`in_shape`),
+    or ``WxH`` as (W, H).
+
+    Examples
+    --------
+    >>> parse_in_size("1024"), parse_in_size("512x256")
+    ((1024, 0), (512, 256))
+    """
+    width, height = parse_size(text)
+    return (width, 0) if "x" not in str(text).lower() else (width, height)
 
 
 # --- 1. the plan ----------------------------------------------------------------------------
@@ -201,9 +230,11 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
     for job in jobs:
         for out in job.all_outputs():
             name = f"{job.origin}: {out}" if job.origin else f"-o {out}"
-            if Path(out).suffix.lower() not in SUFFIXES:
-                raise UsageError(f"{name}: the output's suffix must be one of "
-                                 f"{', '.join(SUFFIXES)}")
+            try:
+                output_format(out)
+            except ValueError as error:
+                raise UsageError(f"{job.origin}: {error}" if job.origin else f"-o {error}"
+                                 ) from None
             parts = _identity(out)
             for part in parts:
                 if part in inputs:
@@ -222,21 +253,47 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
 # --- 2. before any work ---------------------------------------------------------------------
 
 def read_input(path, *, header: bool = False):
-    """An input image as float32 (H, W, C), or :class:`InputError` naming the file.
+    """An input image as float32 (H, W, C), upright, or :class:`InputError` naming the file.
 
-    ``header``: only the shape (H, W, C), as cheaply as the format allows.
+    ``header``: only its shape (H, W, C), from the file's headers (``io.image_size``).
     """
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"{path}: is a folder, not an image file")
     try:
-        image = read_photo(path)
+        if header:
+            width, height, channels = image_size(path)
+            return (height, width, channels)
+        return read_photo(path)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
-    except (ValueError, OSError, EOFError) as error:
-        text = getattr(error, "strerror", None) or str(error)
-        raise InputError(text if str(path) in text else f"{path}: {text}") from None
-    return image.shape if header else image
+    except ImageReadError as error:
+        raise InputError(str(error)) from None
+
+
+def default_bits(path) -> int:
+    """The bit depth an output takes from its photo (``io.png_bits``); 8 for a photo that
+    cannot be read, which :func:`preflight` then names."""
+    try:
+        return png_bits(path)
+    except (OSError, ValueError):
+        return 8
+
+
+def in_shape(shape, in_size: tuple[int, int] | None) -> tuple[int, int, int]:
+    """The shape (H, W, C) a photo of ``shape`` is worked at: ``in_size`` (W, H), where a
+    height of 0 keeps the photo's aspect ratio (``--in-size N``: the longer side N).
+
+    Examples
+    --------
+    >>> in_shape((3000, 4000, 3), (1024, 0)), in_shape((3000, 4000, 3), (512, 256))
+    ((768, 1024, 3), (256, 512, 3))
+    """
+    if in_size is None:
+        return tuple(shape)
+    h, w, c = shape
+    width, height = in_size
+    if height == 0:
+        scale = width / max(h, w)
+        width, height = max(1, round(w * scale)), max(1, round(h * scale))
+    return (height, width, c)
 
 
 def preflight(jobs: list[Job]) -> None:
@@ -264,7 +321,7 @@ def preflight(jobs: list[Job]) -> None:
                 raise InputError(f"{job.origin + ': ' if job.origin else ''}{path}: "
                                  f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
                                  f"photo's {photo[1]} x {photo[0]}")
-        _check_run(job, photo)
+        _check_run(job, in_shape(photo, job.in_size))
     for folder in dict.fromkeys(Path(out).parent for job in jobs for out in job.all_outputs()):
         check_folder(folder)
 
@@ -307,26 +364,26 @@ def check_folder(folder: Path) -> None:
 
 # --- 3. the work ----------------------------------------------------------------------------
 
-def _finite(image: np.ndarray, path: str, what: str) -> None:
-    bad = int(np.count_nonzero(~np.isfinite(image)))
-    if bad:
-        raise (InputError if what == "input" else JobError)(
-            f"{path}: {bad} NaN or infinite values" + ("; repair the file first"
-                                                       if what == "input" else ""))
+def _finite(image: np.ndarray, path: str) -> None:
+    """A result with NaN or infinities from finite inputs is texsynth's fault: never written."""
+    if image.size and not (np.isfinite(image.min()) and np.isfinite(image.max())):
+        raise JobError(f"{path}: the result holds NaN or infinite values; nothing was written "
+                       "(please report this photo)")
 
 
 def execute(job: Job, progress: Callable[[float, str], object] | None = None) -> list[str]:
     """Do ``job`` and write its outputs (overwriting any file of the same name); the paths.
 
-    Inputs are read (EXIF orientation applied) and checked finite, the work runs with
-    ``progress``, every result is checked finite, and the outputs are written to temporary
-    files in their folders and renamed over their names only when all are complete.
+    Inputs are read (upright, finite: ``io.read_photo``) and resampled to ``in_size``, the
+    work runs with ``progress``, every result is checked finite, and the outputs are written
+    to temporary files in their folders and renamed over their names only when all are
+    complete.
     """
     photo = read_input(job.photo)
-    _finite(photo, job.photo, "input")
     maps = [read_input(path) for path in job.maps]
-    for path, image in zip(job.maps, maps, strict=True):
-        _finite(image, path, "input")
+    if job.in_size is not None:
+        h, w, _ = in_shape(photo.shape, job.in_size)
+        photo, maps = resample(photo, w, h), [resample(image, w, h) for image in maps]
     if job.operation == "tile":
         result, positions = tileable.make_tileable_positions(photo, band=job.band,
                                                              seed=job.seed, progress=progress)
@@ -348,7 +405,7 @@ def execute(job: Job, progress: Callable[[float, str], object] | None = None) ->
         images.append(preview if job.data else encode(preview, is_linear(job.outputs[0]),
                                                       is_linear(job.preview)))
     for path, image in zip(job.all_outputs(), images, strict=True):
-        _finite(image, path, "output")
+        _finite(image, path)
     write_outputs(list(zip(job.all_outputs(), images, strict=True)), job.bits)
     return list(job.all_outputs())
 
