@@ -193,3 +193,16 @@ def test_the_exit_codes_are_listed_in_help_and_in_the_batch_guide(capsys):
     for code in jobs.EXIT_CODES:
         assert f"  {code} " in text and f"| {code} |" in guide, code
     assert "existing files" in text
+
+
+def test_a_portrait_phone_jpeg_comes_out_upright_at_its_in_size_as_jpeg(tmp_path, capsys):
+    image = pytest.importorskip("PIL.Image")
+    stored = np.rint(ramp_photo((60, 80)) * 255).astype(np.uint8)  # stored landscape
+    exif = image.Exif()
+    exif[274] = 6  # shown turned a quarter: portrait, 60 wide and 80 high
+    image.fromarray(stored).save(tmp_path / "IMG_1.jpg", exif=exif.tobytes(), quality=95)
+    code, out, _ = _run(capsys, "tile", tmp_path / "IMG_1.jpg", "-o", tmp_path / "t.jpg",
+                        "--in-size", "40")
+    assert code == 0 and "t.jpg" in out
+    with image.open(tmp_path / "t.jpg") as written:
+        assert written.format == "JPEG" and written.size == (30, 40)  # upright, longer side 40
