@@ -188,7 +188,8 @@ def test_the_pip_package_is_the_core_with_the_extensions_version():
     project = tomllib.loads((REPO / "pyproject.toml").read_text())
     manifest = tomllib.loads((REPO / "blender_manifest.toml").read_text())
     assert project["project"]["version"] == manifest["version"]
-    assert project["project"]["scripts"]["texsynth"] == "texsynth.cli:main"
+    assert project["project"]["scripts"]["texsynth"] == "texsynth_command:main"
+    assert project["tool"]["setuptools"]["py-modules"] == ["texsynth_command"]
     assert project["tool"]["setuptools"]["packages"]["find"]["include"] == ["texsynth",
                                                                             "texsynth.*"]
 

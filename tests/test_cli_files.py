@@ -2,6 +2,10 @@
 over an input, write two outputs to one file or feed a folder's outputs back in; every error is
 one line with its exit code; resume redoes an output whose bytes changed."""
 
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +16,7 @@ from texsynth.io import read_png, write_exr, write_png
 
 from _images import ramp_photo
 
+REPO = Path(__file__).resolve().parents[1]
 FAST = ["--method", "heeger_bergen", "--scales", "2"]
 
 
@@ -189,7 +194,7 @@ def test_the_exit_codes_are_listed_in_help_and_in_the_batch_guide(capsys):
     with pytest.raises(SystemExit):
         cli.main(["tile", "--help"])
     text = capsys.readouterr().out
-    guide = (Path(__file__).resolve().parents[1] / "docs" / "BATCH.md").read_text()
+    guide = (REPO / "docs" / "BATCH.md").read_text()
     for code in jobs.EXIT_CODES:
         assert f"  {code} " in text and f"| {code} |" in guide, code
     assert "existing files" in text
@@ -206,3 +211,18 @@ def test_a_portrait_phone_jpeg_comes_out_upright_at_its_in_size_as_jpeg(tmp_path
     assert code == 0 and "t.jpg" in out
     with image.open(tmp_path / "t.jpg") as written:
         assert written.format == "JPEG" and written.size == (30, 40)  # upright, longer side 40
+
+
+@pytest.mark.parametrize("delay", [0.2, 2.5])  # while Python loads numpy and scipy, and after
+def test_ctrl_c_at_any_moment_is_one_line_and_exit_130(tmp_path, delay):
+    write_png(tmp_path / "photo.png", ramp_photo((64, 64)))
+    command = [sys.executable, str(REPO / "texsynth_command.py"), "-q", "synthesize",
+               str(tmp_path / "photo.png"), "-o", str(tmp_path / "o.png"), "--size", "2048"]
+    run = subprocess.Popen(command, cwd=REPO, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    run.send_signal(signal.SIGINT)
+    _, err = run.communicate(timeout=60)
+    assert run.returncode == 130
+    _one_error_line(err, "interrupted")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png"]
