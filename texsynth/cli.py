@@ -25,7 +25,6 @@ import logging
 import math
 import os
 import sys
-import time
 from dataclasses import asdict
 from pathlib import Path
 
@@ -36,7 +35,7 @@ from .blocks.periodic import tile_preview
 from .io.files import SUFFIXES, encode, is_linear, png_bits, read_photo, write_image
 from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, rectify
 from .positions import apply_positions
-from .progress import Cancelled
+from .progress import Cancelled, TimeLeft
 from .registry import get_method, methods
 from .tileable import follow, make_tileable_positions
 
@@ -68,8 +67,8 @@ class Bar:
     """Progress on stderr: ``progress(fraction, message)`` as texsynth calls it.
 
     On a terminal one line redrawn in place, a bar with the percentage and the time left
-    (elapsed x (1 - f) / f); piped, a plain line each time the message changes or another
-    tenth is done, so logs stay short.
+    (:class:`texsynth.progress.TimeLeft`, from ``predicted`` seconds when given); piped, a plain
+    line each time the message changes or another tenth is done, so logs stay short.
 
     Examples
     --------
@@ -81,11 +80,12 @@ class Bar:
     ['  0% start', '100% done']
     """
 
-    def __init__(self, stream=None, tty: bool | None = None, quiet: bool = False):
+    def __init__(self, stream=None, tty: bool | None = None, quiet: bool = False,
+                 predicted: float | None = None):
         self.stream = sys.stderr if stream is None else stream
         self.tty = self.stream.isatty() if tty is None else tty
         self.quiet = quiet
-        self.start = time.monotonic()
+        self.left = TimeLeft(predicted)
         self.last = (-1, None)
         self.drawn = False
 
@@ -103,10 +103,8 @@ class Bar:
             self.last = (tenth, message)
 
     def _left(self, fraction: float) -> str:
-        if not 0.01 <= fraction < 1.0:
-            return ""
-        elapsed = time.monotonic() - self.start
-        return f" ({_clock(elapsed * (1.0 - fraction) / fraction)} left)"
+        seconds = self.left.seconds(fraction)
+        return "" if seconds is None or fraction >= 1.0 else f" ({_clock(seconds)} left)"
 
     def _draw(self, fraction: float, message: str) -> None:
         filled = int(round(fraction * 24))
