@@ -95,7 +95,7 @@ __all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
 
 INTERACTION_DISTANCE = 2
 #: The label texture's share of the progress (:func:`synthesize`).
-LABEL_SHARE = 0.03
+LABEL_SHARE = 0.06
 #: Smallest inscribed square (pixels a side) handed to another fill method.
 MIN_SQUARE = 24
 #: Fewest cliques a candidate type needs in the exemplar to be modelled.
@@ -596,7 +596,7 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     report = Progress(progress)
     h, w = x.shape[:2]
     # the progress' shares: the segmentation by the cost model, the label texture measured
-    # (a fixed 0.18 had taken 0.03 of the time at 128 -> 256), the fill the rest
+    # (a fixed 0.18 had taken 0.03-0.13 of the time at 128 -> 256), the fill the rest
     segmented = 3.5e-7 * h * w / cost(x.shape, width, height, checked)
     labelled = segmented + LABEL_SHARE
     if labels is None:
