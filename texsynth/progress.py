@@ -53,13 +53,13 @@ class TimeLeft:
     >>> left = TimeLeft(predicted=100.0, clock=lambda: now[0])
     >>> now[0] = 20.0
     >>> round(left.seconds(0.1))   # 10 % in 20 s: about 200 s in all, the prediction 100 s
-    150
+    165
     >>> round(TimeLeft(clock=lambda: now[0]).seconds(0.1, now=40.0))   # 10 % in 20 s
     180
     """
 
     #: How much of the run the prediction counts as, already seen.
-    PRIOR = 0.05
+    PRIOR = 0.02
     #: The fraction from which an estimate without a prediction is given.
     MIN_FRACTION = 0.01
 

@@ -46,9 +46,9 @@ __all__ = ["random_phase", "METHOD"]
 
 #: Values of a channel the histogram matching keeps (every one up to a 1024^2 photo).
 SAMPLES = 1 << 20
-#: The random phase's draw and transform in a channel's time (1.3-1.8 at 128^2-1024^2 ->
+#: The random phase's draw and transform in a channel's time (1.3-2.8 at 128^2-1024^2 ->
 #: 1024^2-2048^2): its share of the progress.
-PHASE = 1.5
+PHASE = 2.0
 
 
 def random_phase(exemplar, width, height, rng, progress):
@@ -85,7 +85,7 @@ def random_phase(exemplar, width, height, rng, progress):
     crop = exemplar[y:y + m_, x:x + n_]
     whole = (m_, n_) == (height, width)                # the spot fills the output: s~ = p - m
     # Fractions by the work of each step, in a channel's transforms and matching: the crop's
-    # periodic component C crop / output, the phase's noise and transform 1.5 (measured).
+    # periodic component C crop / output, the phase's noise and transform PHASE.
     steps = np.cumsum([0.0 if whole else channels * m_ * n_ / (width * height), PHASE]
                       + [1.0] * channels)
     steps /= steps[-1]
