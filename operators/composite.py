@@ -125,8 +125,10 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
             layout, _ = pixels.read_exemplar(_image(layout_name, "output label map"))
             height, width = layout.shape[:2]
         target = self.target(image.name, METHOD)
+        params = properties.param_values(self, method)
+        predicted, _ = texsynth.budget.forecast(METHOD, exemplar.shape, width, height, params)
         job = Job(composite.synthesize, exemplar, width, height, labels=labels,
-                  output_labels=layout, seed=self.seed, **properties.param_values(self, method))
+                  output_labels=layout, seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
 
     def make(self, result, plan):

@@ -8,12 +8,12 @@ thread only after the work succeeded: on error or cancel the file is unchanged.
 """
 
 import threading
-import time
 import traceback
 
 import bpy
 
 from .. import texsynth
+from ..texsynth.progress import TimeLeft
 from . import output
 
 POLL_SECONDS = 0.1
@@ -21,14 +21,14 @@ POLL_SECONDS = 0.1
 
 class Job:
     """Runs ``function(*args, progress=..., **kwargs)`` and keeps its progress, result, error or
-    cancellation.
+    cancellation; ``predicted`` (seconds, ``texsynth.budget.forecast``) starts the time left.
 
     The main thread reads ``fraction``/``message`` while the worker runs and calls
     :meth:`cancel` to stop it: the progress callback then returns False, ``function`` raises
     ``texsynth.Cancelled`` and no result is kept.
     """
 
-    def __init__(self, function, *args, **kwargs):
+    def __init__(self, function, *args, predicted: float | None = None, **kwargs):
         self._call = (function, args, kwargs)
         self._cancel = threading.Event()
         self._thread = None
@@ -37,16 +37,16 @@ class Job:
         self.result = None
         self.error = None
         self.cancelled = False
-        self.started = time.monotonic()
+        self.left = TimeLeft(predicted)
 
     def time_left(self, now: float | None = None) -> str:
-        """The time still to go, extrapolated from the time so far and the fraction done
-        (" about 3 min left"), or "" until the fraction says enough (2 %)."""
-        if self.fraction < 0.02:
+        """The time still to go (", about 3 min left"), as the command line's bar tells it
+        (``texsynth.progress.TimeLeft``: the predicted seconds, then the fraction done), or ""
+        while there is nothing to go on."""
+        seconds = self.left.seconds(self.fraction, now)
+        if seconds is None or self.fraction >= 1.0:
             return ""
-        elapsed = (time.monotonic() if now is None else now) - self.started
-        left = elapsed * (1.0 - self.fraction) / self.fraction
-        return f", about {texsynth.budget.describe(left)} left"
+        return f", about {texsynth.budget.describe(seconds)} left"
 
     def run(self) -> None:
         function, args, kwargs = self._call
@@ -58,7 +58,7 @@ class Job:
             self.error = error
 
     def start(self) -> None:
-        self.started = time.monotonic()
+        self.left.restart()
         self._thread = threading.Thread(target=self.run, name="texsynth", daemon=True)
         self._thread.start()
 

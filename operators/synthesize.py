@@ -44,8 +44,11 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
         method = properties.selected_method(self)
         target = self.target(image.name, method.name)
         exemplar, encoding = pixels.read_exemplar(image)
+        params = properties.param_values(self, method)
+        predicted, _ = texsynth.budget.forecast(method.name, exemplar.shape, self.width,
+                                                self.height, params)
         job = Job(texsynth.synthesize, exemplar, self.width, self.height, method=method.name,
-                  seed=self.seed, **properties.param_values(self, method))
+                  seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
 
     def make(self, result, plan):

@@ -33,10 +33,10 @@ import scipy.fft as sfft
 
 from . import validation
 from .blocks.parallel import WORKERS
-from .registry import methods
+from .registry import get_method, methods
 
-__all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "check_time",
-           "check_method", "describe", "DEFAULT_BUDGET"]
+__all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "forecast",
+           "forecast_line", "check_time", "check_method", "describe", "DEFAULT_BUDGET"]
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
@@ -163,6 +163,40 @@ def machine_factor() -> float:
 def predict(method, exemplar_shape, width: int, height: int, params: dict) -> float:
     """Predicted seconds of ``method`` (a registry ``Method``) on this machine."""
     return float(method.cost(tuple(exemplar_shape), width, height, params)) * machine_factor()
+
+
+def forecast(method_name: str, exemplar_shape, width: int, height: int,
+             params: dict | None = None) -> tuple[float, float]:
+    """(seconds on this machine as loaded now, peak bytes) predicted for a synthesis, before any
+    work: the method's cost model (:func:`predict`) and memory model (``Method.memory``), with
+    its defaults for the ``params`` not given; an exemplar of shape (H, W) is one channel.
+
+    Examples
+    --------
+    >>> seconds, peak = forecast("random_phase", (128, 128, 3), 256, 256)
+    >>> 0 < seconds < 60 and 0 < peak < 2**30
+    True
+    """
+    method = get_method(method_name)
+    values = method.resolve(params or {})
+    shape = tuple(exemplar_shape)
+    shape = shape if len(shape) == 3 else shape + (1,)
+    return (predict(method, shape, width, height, values),
+            float(method.memory(shape, width, height, values)))
+
+
+def forecast_line(seconds: float, peak: float) -> str:
+    """The one line printed before the work: 'predicted: about 12 s, 1.5 GiB peak'.
+
+    Examples
+    --------
+    >>> forecast_line(70.0, 2.1 * 2**30)
+    'predicted: about 70 s, 2.1 GiB peak'
+    >>> forecast_line(0.4, 30 * 2**20)
+    'predicted: about 0.4 s, 30 MiB peak'
+    """
+    memory = f"{peak / 2**30:.1f} GiB" if peak >= 2**30 else f"{peak / 2**20:.0f} MiB"
+    return f"predicted: about {describe(seconds)}, {memory} peak"
 
 
 def describe(seconds: float) -> str:

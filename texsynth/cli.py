@@ -24,7 +24,6 @@ import logging
 import math
 import os
 import sys
-import time
 from dataclasses import asdict
 from pathlib import Path
 
@@ -48,7 +47,7 @@ from .jobs import (
     write_outputs,
 )
 from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, rectify
-from .progress import Cancelled
+from .progress import Cancelled, TimeLeft
 from .registry import get_method, methods
 from .validation import BudgetError
 
@@ -71,8 +70,8 @@ class Bar:
     """Progress on stderr: ``progress(fraction, message)`` as texsynth calls it.
 
     On a terminal one line redrawn in place, a bar with the percentage and the time left
-    (elapsed x (1 - f) / f); piped, a plain line each time the message changes or another
-    tenth is done, so logs stay short.
+    (:class:`texsynth.progress.TimeLeft`, from ``predicted`` seconds when given); piped, a plain
+    line each time the message changes or another tenth is done, so logs stay short.
 
     Examples
     --------
@@ -84,11 +83,12 @@ class Bar:
     ['  0% start', '100% done']
     """
 
-    def __init__(self, stream=None, tty: bool | None = None, quiet: bool = False):
+    def __init__(self, stream=None, tty: bool | None = None, quiet: bool = False,
+                 predicted: float | None = None):
         self.stream = sys.stderr if stream is None else stream
         self.tty = self.stream.isatty() if tty is None else tty
         self.quiet = quiet
-        self.start = time.monotonic()
+        self.left = TimeLeft(predicted)
         self.last = (-1, None)
         self.drawn = False
 
@@ -106,10 +106,8 @@ class Bar:
             self.last = (tenth, message)
 
     def _left(self, fraction: float) -> str:
-        if not 0.01 <= fraction < 1.0:
-            return ""
-        elapsed = time.monotonic() - self.start
-        return f" ({_clock(elapsed * (1.0 - fraction) / fraction)} left)"
+        seconds = self.left.seconds(fraction)
+        return "" if seconds is None or fraction >= 1.0 else f" ({_clock(seconds)} left)"
 
     def _draw(self, fraction: float, message: str) -> None:
         filled = int(round(fraction * 24))

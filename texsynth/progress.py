@@ -1,10 +1,11 @@
-"""Progress reporting and cancellation shared by every method."""
+"""Progress reporting and cancellation shared by every method, and the time left from it."""
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 
-__all__ = ["Cancelled", "Progress"]
+__all__ = ["Cancelled", "Progress", "TimeLeft"]
 
 
 class Cancelled(Exception):
@@ -35,3 +36,52 @@ class Progress:
     def span(self, start: float, stop: float) -> Progress:
         width = self._stop - self._start
         return Progress(self._callback, self._start + width * start, self._start + width * stop)
+
+
+class TimeLeft:
+    """Seconds still to go of a run that reports fractions done, from its start on ``clock``.
+
+    Rule: seconds per whole run = (elapsed + PRIOR x predicted) / (fraction + PRIOR), the
+    prediction counting as ``PRIOR`` of the run already seen; left = that x (1 - fraction).
+    Without a prediction it is elapsed x (1 - f) / f, from ``MIN_FRACTION`` on; before the
+    first fraction, the prediction counted down. Ours: an extrapolation that starts from the
+    cost model (``texsynth.budget.forecast``) and moves to the observed rate as the run goes.
+
+    Examples
+    --------
+    >>> now = [0.0]
+    >>> left = TimeLeft(predicted=100.0, clock=lambda: now[0])
+    >>> now[0] = 20.0
+    >>> round(left.seconds(0.1))   # 10 % in 20 s: about 200 s in all, the prediction 100 s
+    165
+    >>> round(TimeLeft(clock=lambda: now[0]).seconds(0.1, now=40.0))   # 10 % in 20 s
+    180
+    """
+
+    #: How much of the run the prediction counts as, already seen.
+    PRIOR = 0.02
+    #: The fraction from which an estimate without a prediction is given.
+    MIN_FRACTION = 0.01
+
+    def __init__(self, predicted: float | None = None,
+                 clock: Callable[[], float] = time.monotonic):
+        self.predicted = predicted
+        self.clock = clock
+        self.start = clock()
+
+    def restart(self) -> None:
+        """The run starts now."""
+        self.start = self.clock()
+
+    def seconds(self, fraction: float, now: float | None = None) -> float | None:
+        """Seconds left at ``fraction`` done (0..1), seen at ``now`` (default: the clock);
+        None when there is nothing to go on yet, 0 when done."""
+        f = min(max(float(fraction), 0.0), 1.0)
+        elapsed = max((self.clock() if now is None else now) - self.start, 0.0)
+        if f >= 1.0:
+            return 0.0
+        if self.predicted is None:
+            return elapsed * (1.0 - f) / f if f >= self.MIN_FRACTION else None
+        if f == 0.0:
+            return max(self.predicted - elapsed, 0.0)
+        return (elapsed + self.PRIOR * self.predicted) / (f + self.PRIOR) * (1.0 - f)

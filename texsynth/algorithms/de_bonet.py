@@ -117,6 +117,13 @@ TREE_POINTS = 1 << 20
 TILE = 64
 #: Rows of an exemplar level projected at a time (on the cores, progress between).
 EXEMPLAR_ROWS = 64
+#: A query among coherent candidates in a free query's time (the cost model's figure).
+COHERENT_COST = 0.56
+#: Work, in free queries, per exemplar location of a level (its projection and index), per
+#: exemplar pixel analysed and per output pixel collapsed: the shares of the progress (their
+#: times over the finest level's queries at 256^2 -> 512^2 and 1024^2 -> 1024^2; the index
+#: 0.085-0.38, a level's fixed cost weighing more on small ones).
+INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 0.15, 0.036, 0.036
 
 
 def _per_channel(level: int, top: int, orientations: int) -> int:
@@ -436,8 +443,10 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
 
     scale = {}
+    ends = np.cumsum([0.0] + level_work(ex_shapes, out_shapes)[::-1])
+    ends /= max(ends[-1], 1.0)                    # no level to sample: no shares
     for level in range(top - 1, -1, -1):
-        step = progress.span((top - 1 - level) / top, (top - level) / top)
+        step = progress.span(ends[top - 1 - level], ends[top - level])
         message = f"level {level + 1} of {top}: indexing the exemplar"
         for a in range(level + 1, min(level + depth, top) + 1):
             if a not in scale:                            # an ancestor's spread, once
@@ -466,6 +475,15 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         sources[level] = src.reshape(h, w)
         del space, sampler               # the next level's table is built without them
     return sources
+
+
+def level_work(ex_shapes, out_shapes) -> list[float]:
+    """Each sampled level's work (finest first, the coarsest copied level left out), in free
+    queries: its output locations' queries and its exemplar locations' projection and index.
+    The progress goes by it: equal shares told a quarter done at a twentieth of the time."""
+    return [h * w * (COHERENT_COST if h * w > COHERENT_PIXELS else 1.0)
+            + INDEX_WORK * ex[0] * ex[1]
+            for ex, (h, w) in zip(ex_shapes[:-1], out_shapes[:-1], strict=True)]
 
 
 def _offset(f: np.ndarray, n: int, rng: np.random.Generator, finer=()) -> int:
@@ -507,17 +525,22 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
              orientations=4):
     """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
     levels = pyramid_depth(exemplar.shape, width, height, scales)
-    progress(0.0, "analysing the exemplar")
-    features = pyramid_features(exemplar, LaplacianPyramid(exemplar.shape[:2], levels),
-                                orientations, lambda: progress(0.0, "analysing the exemplar"))
-    progress(0.0, "exemplar analysed")
+    pyr_exemplar = LaplacianPyramid(exemplar.shape[:2], levels)
     pyr_output = LaplacianPyramid((height, width), levels)
+    work = [ANALYSIS_WORK * exemplar.shape[0] * exemplar.shape[1],
+            sum(level_work(pyr_exemplar.level_shapes, pyr_output.level_shapes)),
+            COLLAPSE_WORK * width * height]         # the progress' shares (level_work)
+    analysed, sampled = work[0] / sum(work), (work[0] + work[1]) / sum(work)
+    progress(0.0, "analysing the exemplar")
+    features = pyramid_features(exemplar, pyr_exemplar, orientations,
+                                lambda: progress(0.0, "analysing the exemplar"))
+    progress(analysed, "exemplar analysed")
     sources = sample_pyramid(features, pyr_output.level_shapes, threshold, depth, rng,
-                             progress.span(0.0, 0.95))
+                             progress.span(analysed, sampled))
     out = np.empty((height, width, exemplar.shape[2]), np.float32)
     coarsest, tiled = features[-1].shape[:2], pyr_output.level_shapes[-1]
     for c in range(exemplar.shape[2]):
-        progress(0.95 + 0.05 * c / exemplar.shape[2], "collapsing the pyramid")
+        progress(sampled + (1 - sampled) * c / exemplar.shape[2], "collapsing the pyramid")
         levels = channel_levels(features, sources, c, orientations)
         if tiled[0] % coarsest[0] or tiled[1] % coarsest[1]:
             # a crop of the exemplar's coarsest level, whose wrap would be a seam
@@ -579,7 +602,7 @@ def _cost(shape, width, height, params):
     pixels, locations = width * height, 0.0
     for level in range(16):
         n = pixels * 4.0**-level
-        locations += 0.75 * n * (0.56 if n > COHERENT_PIXELS else 1.0)
+        locations += 0.75 * n * (COHERENT_COST if n > COHERENT_PIXELS else 1.0)
     levels = pyramid_depth(shape, width, height, params["scales"])
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
             + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)

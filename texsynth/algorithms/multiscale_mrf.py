@@ -103,6 +103,9 @@ __all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS", "TABLE_
 REFINE_PIXELS = 512 * 512
 #: Visits per pixel on such a level.
 REFINE_VISITS = 2
+#: A level's fixed work in reference seconds, for the progress only (its build, its first
+#: passes: at 128 -> 256 the coarsest level took 0.024 of the time the model puts at 2.05 s).
+LEVEL_SECONDS = 0.05
 #: Neighbours whose continuations a refining level proposes (the 3 x 3 ring: nearest first).
 REFINE_PROPOSERS = 8
 #: The fewest levels the automatic choice gives (the former default).
@@ -282,7 +285,11 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
         make_level, h * w, shapes,
         lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits, rng, progress, pool,
         lambda lv, level, source, tick: _align(level, source, radius, tick)
-        if lv in aligned and not level.windows else source)
+        if lv in aligned and not level.windows else source,
+        [LEVEL_SECONDS + cost for cost in _level_costs(
+            exemplar.shape, width, height, {"radius": radius, "levels": levels,
+                                            "visits": visits,
+                                            "random_candidates": random_candidates})])
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
@@ -416,20 +423,30 @@ def _cost(shape, width, height, params):
     64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
     18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
+    h, w, _ = shape
+    return 0.1 + sum(_level_costs(shape, width, height, params)) + 8e-8 * h * w
+
+
+def _level_costs(shape, width, height, params) -> list[float]:
+    """:func:`_cost`'s terms of each level, finest first: its visits, its table, its copies'
+    alignment. Also the levels' shares of the progress, with ``LEVEL_SECONDS`` each: by grid
+    pixels alone the coarse levels, a tenth of the time at 128 -> 256, had told 1 %."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
-    units = refine_units = 0.0
-    align_units = k * sum(_aligned(width, height, n_levels, windows).values())
+    aligned = _aligned(width, height, n_levels, windows)
+    costs = []
     for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
-            refine_units += (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
-                             * (1.35 if lv in windows else 1.0))
+            visits = 3.0e-9 * (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
+                               * (1.35 if lv in windows else 1.0))
         else:
-            units += gh * gw * params["visits"] * per_visit * (params["random_candidates"] + 6)
-    return (0.1 + 5.1e-9 * units + 3.0e-9 * refine_units + 4e-7 * align_units
-            + 1.7e-8 * (n_levels - len(windows)) * rows * k * c + 8e-8 * h * w)
+            visits = 5.1e-9 * (gh * gw * params["visits"] * per_visit
+                               * (params["random_candidates"] + 6))
+        table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
+        costs.append(visits + table + 4e-7 * k * aligned.get(lv, 0))
+    return costs
 
 
 def _aligned(width, height, n_levels, windows):

@@ -124,6 +124,10 @@ COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
+#: An EM iteration's fixed work in output pixels' (for the progress only): at 128 -> 256 a
+#: 32^2 level's iteration took a fifth of the 256^2 one's CPU time (2300; more on a loaded
+#: machine, where its many small calls wait for the core).
+ITERATION_PIXELS = 4000
 #: Texels the coarsest (largest) patch spans: the texel (twice the correlation length) reads a
 #: quarter to a half of the setts' period, stone and joint (512 crop of the 2048 setts photo:
 #: 40 px against 170; the 12 MP setts' 1024 crop: 86 against 336; the 12 MP setts: 168 / 344).
@@ -187,6 +191,9 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
+    ends = np.cumsum([0.0] + [_step_cost(pyramid[lv].shape, height, width, lv, p, patch_size,
+                                         iterations) for lv, p in steps])
+    ends /= ends[-1]
     positions = None
     for i, (lv, p) in enumerate(steps):
         z = pyramid[lv]
@@ -195,9 +202,8 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
             positions = _upsample(positions, shape, z.shape)
         positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
-                                   progress.span(i / len(steps), (i + 1) / len(steps)),
-                                   f"level {lv}, patch {p}")
-        done, label = (i + 1) / len(steps), f"level {lv}: re-cutting straight cuts"
+                                   progress.span(ends[i], ends[i + 1]), f"level {lv}, patch {p}")
+        done, label = ends[i + 1], f"level {lv}: re-cutting straight cuts"
         positions = recut_straight(z, positions, RUN, BAND,
                                    tick=lambda d=done, m=label: progress(d, m))
         if lv >= 1:  # the copies slide into phase while their layout is still coarse
@@ -205,6 +211,23 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
             positions = align_regions(z, positions, SHIFT,
                                       tick=lambda d=done, m=label: progress(d, m))
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
+
+
+def _step_cost(exemplar_shape, height, width, lv, p, p_min, iterations) -> float:
+    """Reference seconds of one level and patch size, the terms of :func:`_cost` (EM iterations
+    over the level's output, the search table of its exemplar, the copies' alignment): each
+    step's share of the progress, which equal shares had told at a third to a quarter of the
+    time (the finest level's steps hold most of it at 1024 -> 2048); an iteration's fixed work
+    (its loops over the patch offsets, PatchMatch's passes) as ``ITERATION_PIXELS``, a patch
+    of twice ``p_min``'s side at 0.6 of its time (CPU times at 128 -> 256: 0.64)."""
+    h, w = exemplar_shape[:2]
+    stride = _stride((h, w), p)
+    table = (max(0, h - p) // stride + 1) * (max(0, w - p) // stride + 1)
+    pixels = -(-height // 2 ** lv) * -(-width // 2 ** lv)
+    work = iterations * (COARSE if lv >= 2 else 1) / 3
+    searched = (1 + (p_min / p) ** 2) / 2            # fewer, larger patches: a cheaper search
+    return (COST_OUT / 2 * searched * (pixels + ITERATION_PIXELS) + COST_TABLE * table) * work \
+        + (COST_ALIGN * pixels if lv >= 1 else 0.0)
 
 
 def _upsample(positions, shape, exemplar_shape):

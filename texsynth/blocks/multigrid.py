@@ -79,14 +79,16 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
                          visits: int | Callable[[int], int], rng: np.random.Generator,
                          progress: Progress,
                          pool: Callable[[int], np.ndarray | None] | None = None,
-                         settle: Callable[..., np.ndarray] | None = None) -> np.ndarray:
+                         settle: Callable[..., np.ndarray] | None = None,
+                         work: list[float] | None = None) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
     coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
     call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
     T per level as ``visits(l)``; ``pool(l)``, when given and not None, the exemplar positions
-    level l draws its random start from (a level that searches a lattice of the exemplar)."""
+    level l draws its random start from (a level that searches a lattice of the exemplar);
+    ``work``, each level's share of the progress (any scale; default its grid pixels)."""
     n_levels = len(shapes)
-    work = np.array([gh * gw for gh, gw in shapes], float)
+    work = np.array([gh * gw for gh, gw in shapes] if work is None else work, float)
     work /= work.sum()
 
     # Confidence w is counted in halves of a visit: w = halves / (2 T), final at 2 T.
