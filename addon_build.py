@@ -507,6 +507,8 @@ def main() -> None:
     command = args.command
     if args.skip_missing:
         os.environ[SKIP_MISSING] = "1"
+    if command in ("test", "test-compat") and not os.environ.get(SKIP_MISSING):
+        _bases()  # a missing Python stops it before the set-up too
     setup()
     if command == "setup":
         return
