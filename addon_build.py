@@ -6,12 +6,18 @@
     python3 addon_build.py validate     Blender's validator on the source and every zip
     python3 addon_build.py repo         the repository listing of the zips in dist/
     python3 addon_build.py demo         synthesize samples/pool_water.png at 512 x 512 into out/
-    python3 addon_build.py test         what CI runs: build, ruff, pytest (Blender 5.0 = bpy
-                                        5.0.1), then what test-compat runs
+    python3 addon_build.py test         what CI runs: build, ruff, the pip package (pip-check),
+                                        pytest (Blender 5.0 = bpy 5.0.1), then what test-compat
+                                        runs
     python3 addon_build.py test-compat  build, then the Blender tests in Blender 4.2.0, 4.5 LTS
                                         and 5.3 (bpy from PyPI, each in its own
                                         .venv-bpy-VERSION), and the core tests on 5.3's Python
                                         3.13 and numpy 2.3 with the bundled cp313 wheels
+    python3 addon_build.py pip-check    the checkout pip-installed into a throwaway venv, and the
+                                        texsynth command run there
+
+test and test-compat stop at once, exit status 1, when a Python that a promised Blender needs
+(3.13 for 5.3) is missing; ``--skip-missing`` skips those runs instead.
 
 Any Python 3 starts it: every command first makes sure of .venv and re-runs itself there. The
 build, validation and listing use the extension CLI that ships inside the bpy wheel (bl_pkg's
@@ -344,14 +350,51 @@ def demo() -> None:
 
 
 def test() -> None:
-    """What CI runs: build (the tests install the zip), ruff, pytest in Blender 5.0, then the
-    other Blenders and Python 3.13 of test-compat. Their venvs are made once per clone; Blender
-    5.3 adds about 4.5 minutes to a fresh clone's run (its venv 2.2, its tests 1.7-2.4, on this
-    2-core machine under load) and 1.8 minutes once its venv exists."""
+    """What CI runs: build (the tests install the zip), ruff, the pip package (pip-check),
+    pytest in Blender 5.0, then the other Blenders and Python 3.13 of test-compat. Their venvs
+    are made once per clone; Blender 5.3 adds about 4.5 minutes to a fresh clone's run (its venv
+    2.2, its tests 1.7-2.4, on this 2-core machine under load) and 1.8 minutes once its venv
+    exists. A missing Python for one of them stops it before anything runs (``_bases``)."""
+    bases = _bases()
     build()
     _run(sys.executable, "-m", "ruff", "check", REPO)
+    pip_check()
     _run(sys.executable, "-m", "pytest", "-q", REPO / "tests", cwd=REPO)
-    compat()
+    compat(bases)
+
+
+def pip_check() -> None:
+    """The pip package as a user gets it: the checkout's tracked files copied to a temporary
+    folder and pip-installed from there (not editable: a module or data file the package
+    misses shows) into a fresh venv, with pip's cache; then ``texsynth --version``,
+    ``texsynth methods`` and a 64 x 64 ``random_phase`` synthesis of the sample, read back by
+    the installed package. Everything runs outside the checkout, which is never imported."""
+    with tempfile.TemporaryDirectory(prefix="texsynth-pip-") as tmp:
+        tmp = Path(tmp)
+        listed = subprocess.run(["git", "ls-files", "-z"], cwd=REPO, capture_output=True,
+                                check=True).stdout.decode().split("\0")
+        for name in filter(None, listed):
+            if (REPO / name).is_file():  # a tracked file deleted in the work tree is not
+                (tmp / "src" / name).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(REPO / name, tmp / "src" / name)
+        _run(sys.executable, "-m", "venv", tmp / "venv")
+        python = _venv_python(tmp / "venv")
+        env = dict(os.environ, PIP_DISABLE_PIP_VERSION_CHECK="1")
+        _run(python, "-m", "pip", "install", "--quiet", "--no-compile", tmp / "src", env=env)
+        command = python.parent / ("texsynth.exe" if os.name == "nt" else "texsynth")
+        shown = subprocess.run([command, "--version"], capture_output=True, text=True,
+                               check=True, cwd=tmp).stdout.strip()
+        if shown != f"texsynth {version()}":
+            sys.exit(f"pip-check: texsynth --version says {shown!r}, the manifest {version()}")
+        _run(command, "methods", cwd=tmp, stdout=subprocess.DEVNULL)
+        out = tmp / "o.png"
+        _run(command, "--quiet", "synthesize", SAMPLE, "-o", out, "--size", "64", "--method",
+             "random_phase", cwd=tmp)
+        _run(python, "-c", "import sys; from texsynth.io import read_image; "
+             "shape = read_image(sys.argv[1]).shape; "
+             "sys.exit(None if shape[:2] == (64, 64) else f'{sys.argv[1]} is {shape}')", out,
+             cwd=tmp)
+        print("pip-check: the pip package installs and its command runs", flush=True)
 
 
 def _find_python(version: str) -> str | None:
@@ -372,29 +415,49 @@ def test_compat() -> None:
     and pytest, so scipy and OpenEXR come from the wheels the installed zip bundles (the
     Blender tests install it before they import anything else).
     """
+    bases = _bases()
     build()
-    compat()
+    compat(bases)
+
+
+#: Set by ``--skip-missing`` (kept in the environment across the re-run in .venv).
+SKIP_MISSING = "TEXSYNTH_SKIP_MISSING"
 
 
 def _base_python(version: str, purpose: str) -> str | None:
-    """The Python ``version`` to make a venv from; None (skip) when there is none, except in
-    CI, which must not pass by skipping a Blender."""
+    """The Python ``version`` to make a venv from. When there is none: exit with one line
+    saying what to install (a promised Blender is not skipped quietly, in CI or here), or,
+    after ``--skip-missing``, None (skip)."""
     if version == DEV_PYTHON:
         return _python_311()
     found = _find_python(version)
     if found is None:
-        message = f"no Python {version} (PATH or pyenv) for {purpose}"
-        if os.environ.get("CI"):
-            sys.exit(message)
-        print(f"\n--- skipped: {message}", flush=True)
+        missing = f"no Python {version} (python{version} on the PATH, or pyenv's) for {purpose}"
+        if not os.environ.get(SKIP_MISSING):
+            sys.exit(f"{missing}: install it (pyenv install {version}, or your system's "
+                     f"python{version} package), or run again with --skip-missing to skip it")
+        print(f"\n--- skipped: {missing}", flush=True)
     return found
 
 
-def compat() -> None:
-    """The test-compat runs, on the zips already in dist/."""
+def _bases() -> dict[str, str | None]:
+    """Python version -> the base Python for its venvs, for every Python test-compat needs
+    (checked before anything runs)."""
+    purposes = {}
+    for bpy_version, (python_version, _) in COMPAT_BPY.items():
+        purposes.setdefault(python_version, []).append(f"the Blender tests in bpy {bpy_version}")
+    purposes[COMPAT_BPY[NEWEST_BPY][0]].append(f"the core tests on Blender {NEWEST_BPY}'s stack")
+    return {python: _base_python(python, " and ".join(uses)) for python, uses in purposes.items()}
+
+
+def compat(bases: dict[str, str | None]) -> None:
+    """The test-compat runs, on the zips already in dist/, from the base Pythons ``bases``
+    (``_bases``; None: skipped)."""
     for bpy_version, (python_version, numpy_version) in COMPAT_BPY.items():
-        base = _base_python(python_version, f"the Blender tests in bpy {bpy_version}")
+        base = bases[python_version]
         if base is None:
+            print(f"\n--- skipped: Blender {bpy_version} (no Python {python_version})",
+                  flush=True)
             continue
         python = _ensure_venv(REPO / f".venv-bpy-{bpy_version}",
                               [f"bpy=={bpy_version}", f"numpy=={numpy_version}", "pytest",
@@ -405,8 +468,9 @@ def compat() -> None:
         _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", REPO / "tests" / "blender",
              cwd=REPO)
     python_version, numpy_version = COMPAT_BPY[NEWEST_BPY]
-    base = _base_python(python_version, f"the core tests on Blender {NEWEST_BPY}'s stack")
+    base = bases[python_version]
     if base is None:
+        print(f"\n--- skipped: the core tests on Python {python_version}", flush=True)
         return
     python = _ensure_venv(REPO / f".venv-py{python_version}",
                           [f"numpy=={numpy_version}", "pytest", "hypothesis",
@@ -430,13 +494,21 @@ def _wheels_here(python: str) -> list[str]:
 
 
 COMMANDS = {"setup": setup, "build": build, "validate": validate, "repo": repo, "demo": demo,
-            "test": test, "test-compat": test_compat}
+            "test": test, "test-compat": test_compat, "pip-check": pip_check}
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("command", choices=COMMANDS)
-    command = parser.parse_args().command
+    parser.add_argument("--skip-missing", action="store_true",
+                        help="test, test-compat: skip the Blenders whose Python is missing "
+                             "(default: stop, naming it)")
+    args = parser.parse_args()
+    command = args.command
+    if args.skip_missing:
+        os.environ[SKIP_MISSING] = "1"
+    if command in ("test", "test-compat") and not os.environ.get(SKIP_MISSING):
+        _bases()  # a missing Python stops it before the set-up too
     setup()
     if command == "setup":
         return

@@ -10,8 +10,14 @@ a hang, not a slow run. A numpy RuntimeWarning (overflow, invalid value) fails t
 share of examples that ran and the refusals. The properties of issue 26 (make_tileable at any
 magnitude, focal_px_from_file with any path and format, the budget variables) run at least 120
 examples each; the operators' follower maps are swept in tests/blender/test_fuzz_followers.py.
+
+A property whose every example is refused would pass without testing anything, so each test
+counts its calls' results and refusals and fails when the share of results is below its floor
+(``@results``, with the floor's reason); the strategies draw fair input most of the time.
 """
 
+import collections
+import functools
 import math
 import os
 import re
@@ -42,7 +48,10 @@ FUZZ = settings(max_examples=EXAMPLES, deadline=20000, derandomize=True, databas
 
 # --- strategies ----------------------------------------------------------------------------
 
-DTYPES = [np.float64, np.uint8, np.uint16, np.int32, np.bool_, np.complex64]
+#: Numeric dtypes besides float32 (integers taken as they are, unsigned ones scaled), and two
+#: that are no image's.
+FAIR_DTYPES = [np.float64, np.uint8, np.uint16, np.int32]
+FOUL_DTYPES = [np.bool_, np.complex64]
 RANGES = [(0.0, 1.0), (-5.0, 50.0), (1e29, 1e30), (0.0, 1e-30), (0.5, 0.5), (-1.0, 0.0)]
 
 
@@ -53,56 +62,92 @@ def mostly(good, wrong, odds: int = 6):
 
 
 @st.composite
-def images(draw, min_side=1, max_side=24):
-    """Mostly float32 with 1, 3 or 4 channels and sides from ``min_side`` (at least 12, the
-    largest default window) to ``max_side``; sometimes smaller, other dtypes or channels."""
-    side = mostly(st.integers(max(min_side, 12), max_side), st.integers(1, max_side))
-    h, w = draw(side), draw(side)
-    channels = draw(mostly(st.sampled_from([3, None, 1, 4]), st.sampled_from([2, 5])))
-    dtype = draw(mostly(st.just(np.float32), st.sampled_from(DTYPES), odds=3))
-    lo, hi = draw(st.sampled_from(RANGES))
+def images(draw, min_side=1, max_side=24, halves=False):
+    """Mostly (6 in 7) a fair image: sides from ``min_side`` (at least 12, the largest default
+    window) to ``max_side``, 1, 3 or 4 channels or none, float32 (3 in 4) or another numeric
+    dtype, values in any of RANGES; else one flaw: a side from 1 up (often too small), 2 or 5
+    channels, a dtype that is no image's, or a NaN or an infinity. ``halves``: the right half
+    darker (a quarter of the left's distance from the range's low end), and mostly values of
+    the first two RANGES: two classes for the segmentation (the others' colours are one)."""
+    flaw = draw(mostly(st.none(), st.sampled_from(["side", "channels", "dtype", "nonfinite"])))
+    fair = st.integers(max(min_side, 12), max_side)
+    h, w = draw(st.integers(1, max_side) if flaw == "side" else fair), draw(fair)
+    if draw(st.booleans()):
+        h, w = w, h
+    channels = draw(st.sampled_from([2, 5]) if flaw == "channels" else
+                    st.sampled_from([3, None, 1, 4]))
+    dtype = draw(st.sampled_from(FOUL_DTYPES) if flaw == "dtype" else
+                 st.sampled_from([np.float32, np.float64]) if flaw == "nonfinite" else
+                 mostly(st.just(np.float32), st.sampled_from(FAIR_DTYPES), odds=3))
+    lo, hi = draw(mostly(st.sampled_from(RANGES[:2]), st.sampled_from(RANGES[2:])) if halves
+                  else st.sampled_from(RANGES))
     rng = np.random.default_rng(draw(st.integers(0, 2**16)))
     shape = (h, w) if channels is None else (h, w, channels)
     values = lo + (hi - lo) * rng.random(shape)
     if np.dtype(dtype).kind in "ui":
         values = rng.integers(0, np.iinfo(dtype).max // 2 + 1, shape)
+    if halves:
+        right = values[:, w // 2:]
+        right[...] = right // 4 if values.dtype.kind == "i" else lo + (right - lo) / 4
     a = values.astype(dtype)
-    if np.dtype(dtype).kind == "f" and draw(st.sampled_from([False] * 7 + [True])):
+    if flaw == "nonfinite":
         a.flat[rng.integers(a.size)] = draw(st.sampled_from([np.nan, np.inf, -np.inf]))
     return a
 
 
-SIZES = mostly(st.integers(1, 40), st.sampled_from([0, -1, 0.5, 16.0, "16", None, True, 10**6]),
-               odds=10)
-SEEDS = mostly(st.integers(0, 2**40), st.sampled_from([-1, 1.5, "1", None, True]))
+NO_SIZES = st.sampled_from([0, -1, 0.5, 16.0, "16", None, True, 10**6])
+#: An output side: mostly (10 in 11) from 1 to 40, else no size.
+SIZES = mostly(st.integers(1, 40), NO_SIZES, odds=10)
+#: The smallest output side a method accepts with its default parameters (the patch).
+SMALLEST_OUTPUT = {"texture_optimization": 8}
+GOOD_SEEDS, NO_SEEDS = st.integers(0, 2**40), st.sampled_from([-1, 1.5, "1", None, True])
+SEEDS = mostly(GOOD_SEEDS, NO_SEEDS, odds=10)
 WRONG = st.sampled_from([-1, 0, 10**6, 0.5, -0.5, float("nan"), float("inf"), "x", None, True,
                          [1]])
 
 
-def _value(p):
-    """A value for parameter ``p``: mostly in range (small, to stay fast), sometimes not."""
+def _good(p):
+    """A value in range for parameter ``p`` (small, to stay fast)."""
     if p.type is bool:
-        good = st.booleans()
-    elif p.type is str:
-        good = st.sampled_from(p.choices)
-    elif p.type is int:
-        good = st.integers(int(p.min), int(min(p.max, p.min + 3)))
-    else:
-        good = st.floats(p.min, p.max, allow_nan=False)
-    return mostly(good, WRONG, odds=10)
+        return st.booleans()
+    if p.type is str:
+        return st.sampled_from(p.choices)
+    if p.type is int:
+        return st.integers(int(p.min), int(min(p.max, p.min + 3)))
+    return st.floats(p.min, p.max, allow_nan=False)
+
+
+def _value(p):
+    """A value for parameter ``p``: mostly (10 in 11) in range, sometimes not."""
+    return mostly(_good(p), WRONG, odds=10)
 
 
 @st.composite
-def params_for(draw, method):
+def arguments(draw, smallest=1, others=()):
+    """(width, height, seed, wrong): mostly (6 in 7) all fair, sides from ``smallest`` to 40;
+    else ``wrong`` names the one that is not, or one of ``others`` that the test makes wrong."""
+    wrong = draw(mostly(st.none(), st.sampled_from(["width", "height", "seed", *others])))
+    side = st.integers(smallest, 40)
+    return (draw(NO_SIZES if wrong == "width" else side),
+            draw(NO_SIZES if wrong == "height" else side),
+            draw(NO_SEEDS if wrong == "seed" else GOOD_SEEDS), wrong)
+
+
+@st.composite
+def params_for(draw, method, wrong=False, unknown=True):
+    """Up to three of ``method``'s parameters, in range; ``wrong``: one of them (or of the
+    others) given a wrong value, or (``unknown``) a parameter it does not have."""
     chosen = draw(st.lists(st.sampled_from(method.params), unique=True, max_size=3)) \
         if method.params else []
-    values = {p.name: draw(_value(p)) for p in chosen}
+    values = {p.name: draw(_good(p)) for p in chosen}
     # the slow knobs of the clique model stay small unless drawn wrong
     for name, small in (("max_cliques", 3), ("sweeps", 2), ("iterations", 2)):
         if any(p.name == name for p in method.params) and name not in values:
             values[name] = small
-    if draw(st.sampled_from([False] * 19 + [True])):
-        values["no_such_parameter"] = 1
+    if wrong:
+        bad = draw(st.sampled_from([p.name for p in method.params] +
+                                   ["no_such_parameter"] * unknown))
+        values[bad] = 1 if bad == "no_such_parameter" else draw(WRONG)
     return values
 
 
@@ -128,6 +173,28 @@ def _untouched(before, arrays):
     return all(np.array_equal(b, a, equal_nan=True) for b, a in zip(before, arrays, strict=True))
 
 
+#: The running test's calls: how many gave a result, how many were refused (see ``results``).
+TALLY = collections.Counter()
+#: Why a floor is well below the share drawn: Hypothesis runs each new example and about five
+#: mutations of it (under 8 other seeds, shares of 0.35-1.0 for 20 examples).
+CLUSTERED = "20 examples come in clusters of about 6 (Hypothesis' mutations of each new one)"
+
+
+def results(floor: float, why: str):
+    """Fail the test when fewer than ``floor`` of its checked calls gave a result (not a
+    refusal); ``why`` is the floor's reason, from how often its strategies draw fair input."""
+    def decorate(test):
+        @functools.wraps(test)
+        def run(*args, **kwargs):
+            TALLY.clear()
+            test(*args, **kwargs)
+            made, calls = TALLY["result"], TALLY["result"] + TALLY["refused"]
+            assert calls and made >= floor * calls, \
+                f"{made} results in {calls} calls, below the floor of {floor:.2f}: {why}"
+        return run
+    return decorate
+
+
 def check(call, *inputs):
     """Run ``call``; return its result, or None after a ValueError of ours. Inputs untouched."""
     before = _snapshot(*inputs)
@@ -138,8 +205,10 @@ def check(call, *inputs):
             "".join(traceback.format_tb(error.__traceback__)[-3:])
         result = None
         event(f"refused: {str(error)[:40]}")
+        TALLY["refused"] += 1
     else:
         event("result")
+        TALLY["result"] += 1
     assert _untouched(before, inputs), "an input was modified"
     return result
 
@@ -154,19 +223,24 @@ def _sane(out, width, height, exemplar):
 METHODS = texsynth.methods()
 
 
+@results(1 / 4, "about 3 in 4 are fair: the exemplar 6 in 7, then the other arguments 6 in 7; "
+          + CLUSTERED)
 @FUZZ
 @given(data=st.data())
 @pytest.mark.parametrize("method", METHODS, ids=[m.name for m in METHODS])
 def test_synthesize(method, data):
-    exemplar = data.draw(images(min_side=method.min_exemplar))
-    width, height, seed = data.draw(SIZES), data.draw(SIZES), data.draw(SEEDS)
-    params = data.draw(params_for(method))
+    exemplar = data.draw(images(min_side=method.min_exemplar, halves=method.name == "composite"))
+    width, height, seed, wrong = data.draw(arguments(SMALLEST_OUTPUT.get(method.name, 1),
+                                                     others=["params"]))
+    params = data.draw(params_for(method, wrong=wrong == "params"))
     out = check(lambda: texsynth.synthesize(exemplar, width, height, method=method.name,
                                             seed=seed, **params), exemplar)
     if out is not None:
         _sane(out, width, height, exemplar)
 
 
+@results(1 / 4, "two in three: the exemplar 6 in 7, each side 10 in 11, method and mode 6 in 7; "
+          + CLUSTERED)
 @FUZZ
 @given(exemplar=images(), width=SIZES, height=SIZES,
        method=mostly(st.sampled_from(["multiscale_mrf", "efros_leung"]), st.just("heeger_bergen")),
@@ -187,6 +261,8 @@ def test_positions_and_stack(exemplar, width, height, method, mode):
         assert moved is None or moved.shape[:2] == (height, width)
 
 
+@results(1 / 4, "about 3 in 4: the fit as a synthesis, then each side 10 in 11 and sweeps 6 in 7; "
+          + CLUSTERED)
 @FUZZ
 @given(exemplar=images(min_side=8), width=SIZES, height=SIZES, seed=SEEDS, data=st.data())
 def test_clique_model(exemplar, width, height, seed, data):
@@ -198,18 +274,24 @@ def test_clique_model(exemplar, width, height, seed, data):
                   exemplar)
     if model is None:
         return
-    sweeps = data.draw(st.one_of(st.integers(1, 2), WRONG))
+    sweeps = data.draw(mostly(st.integers(1, 2), WRONG))
     out = check(lambda: model.synthesize(width, height, seed=seed, sweeps=sweeps))
     if out is not None:
         _sane(out, width, height, exemplar)
 
 
+@results(1 / 4, "about 2 in 3 are fair: as test_synthesize's, and an exemplar of two classes "
+          "9 in 10; " + CLUSTERED)
 @FUZZ
-@given(exemplar=images(min_side=16), width=SIZES, height=SIZES, seed=SEEDS, data=st.data())
-def test_composite_entry_point(exemplar, width, height, seed, data):
-    params = data.draw(params_for(texsynth.get_method("composite")))
-    params.pop("no_such_parameter", None)  # a keyword function: Python's TypeError names it
-    labels = data.draw(mostly(st.sampled_from([None, "stripes"]), st.just("wrong size")))
+@given(exemplar=images(min_side=16, halves=True),
+       drawn=arguments(others=["params", "labels"]), data=st.data())
+def test_composite_entry_point(exemplar, drawn, data):
+    width, height, seed, wrong = drawn
+    # a keyword function: Python's TypeError would name an unknown parameter
+    params = data.draw(params_for(texsynth.get_method("composite"), wrong=wrong == "params",
+                                  unknown=False))
+    labels = data.draw(st.just("wrong size") if wrong == "labels" else
+                       st.sampled_from([None, "stripes"]))
     x = np.asarray(exemplar)
     if labels == "stripes":
         labels = (np.arange(x.shape[1])[None, :] * 3 // x.shape[1]).repeat(x.shape[0], 0)
@@ -229,12 +311,17 @@ def test_composite_entry_point(exemplar, width, height, seed, data):
         _sane(result.image, width, height, exemplar)
 
 
+@results(1 / 4, "half the files are whole; " + CLUSTERED)
 @FUZZ
-@given(payload=st.binary(max_size=300), keep=st.integers(0, 4000))
-def test_model_files(tmp_path_factory, payload, keep):
-    model = _model()
+@given(whole=st.booleans(), keep=st.integers(0, 5000), payload=st.binary(max_size=300))
+def test_model_files(tmp_path_factory, whole, keep, payload):
+    """A model file whole (half the examples), or cut at ``keep`` bytes and ``payload`` appended
+    (drawn in both, so that Hypothesis' mutations of them run as often whole as damaged)."""
+    data = _model().to_bytes()
+    if not whole:
+        data = data[:keep] + payload
     path = tmp_path_factory.mktemp("model") / "m.npz"
-    path.write_bytes(model.to_bytes()[:keep] + payload)
+    path.write_bytes(data)
     loaded = check(lambda: cooccurrence.Model.load(path))
     if loaded is not None:
         _sane(loaded.synthesize(5, 4), 5, 4, np.zeros((1, 1, 3)))
@@ -250,8 +337,9 @@ def _model():
     return _MODEL[0]
 
 
+@results(1 / 3, "about 3 in 4: the image 6 in 7, the contrast 10 in 11; " + CLUSTERED)
 @FUZZ
-@given(image=images(min_side=4), contrast=st.one_of(st.floats(0, 100), WRONG))
+@given(image=images(min_side=4), contrast=mostly(st.floats(0, 100), WRONG))
 def test_segment(image, contrast):
     labels = check(lambda: texsynth.segmentation.segment(image, contrast=contrast), image)
     if labels is not None:
@@ -261,8 +349,9 @@ def test_segment(image, contrast):
 NUMBERS = mostly(st.floats(0, 89), st.one_of(st.floats(-1000, 1000), WRONG))
 
 
+@results(1 / 3, "about 3 in 4: slant and distance 6 in 7, any finite tilt; " + CLUSTERED)
 @FUZZ
-@given(slant=NUMBERS, tilt=NUMBERS, distance=NUMBERS)
+@given(slant=NUMBERS, tilt=NUMBERS, distance=mostly(st.floats(1e-3, 1000), NUMBERS))
 def test_camera_pose(slant, tilt, distance):
     pose = check(lambda: texsynth.camera_pose(slant, tilt, distance))
     if pose is not None:
@@ -276,8 +365,10 @@ def plane():
     return photo, texsynth.estimate_plane(photo, method="isotropy")
 
 
+@results(1 / 5, "over half: the size 3 in 4 (then each side 10 in 11), slant and focal length "
+          "6 in 7; " + CLUSTERED)
 @FUZZ
-@given(size=st.one_of(st.none(), st.tuples(SIZES, SIZES), SIZES), slant=NUMBERS,
+@given(size=mostly(st.one_of(st.none(), st.tuples(SIZES, SIZES)), SIZES), slant=NUMBERS,
        focal=st.one_of(st.none(), NUMBERS))
 def test_rectify(plane, size, slant, focal):
     import dataclasses
@@ -322,6 +413,8 @@ def photos(draw):
 BANDS = mostly(st.none(), st.one_of(st.integers(-2, 40), WRONG), odds=3)
 
 
+@results(1 / 3, "about 3 in 5 (each side 8 in 9, channels, dtype and band mostly fair); "
+          "120 examples vary little")
 @WIDE
 @given(drawn=photos(), band=BANDS, seed=mostly(st.integers(0, 9), SEEDS))
 def test_make_tileable(drawn, band, seed):
@@ -392,6 +485,8 @@ def _exif_file(draw, folder):
     return path, stated
 
 
+@results(1 / 2, "the path is a path 6 in 7, and a file without a focal length is a result "
+          "(None); 120 examples vary little")
 @WIDE
 @given(data=st.data())
 def test_focal_px_from_file(tmp_path_factory, data):
@@ -417,6 +512,8 @@ BUDGETS = st.one_of(st.sampled_from(["abc", "", " ", "0", "-1", "nan", "inf", "-
                     st.integers(-10, 10**12).map(str), st.floats().map(repr), st.text(max_size=8))
 
 
+@results(1 / 5, "a budget reads as a positive number about 2 in 5, both do for synthesize "
+          "about 1 in 6: a third of the calls; 120 examples vary little")
 @WIDE
 @given(memory=BUDGETS, seconds=BUDGETS)
 def test_the_budget_variables(memory, seconds):
@@ -437,7 +534,9 @@ def test_the_budget_variables(memory, seconds):
                 value = call()
             except ValueError as error:
                 assert _ours(error) and any(n in str(error) for n in names), str(error)
+                TALLY["refused"] += 1
                 continue
+            TALLY["result"] += 1
             if call is calls[0]:
                 _sane(value, 8, 8, exemplar)
             else:

@@ -40,6 +40,7 @@ Deviations, one line each:
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -134,6 +135,22 @@ def _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
     return cost
 
 
+def _extents(positions, label, n):
+    """(4, n): each region's first and last exemplar row, first and last column."""
+    index = np.arange(n)
+    return np.array([f(positions[:, :, k], label, index) for k in (0, 1)
+                     for f in (ndimage.minimum, ndimage.maximum)], np.int64)
+
+
+def _off(extents, deltas, shape):
+    """(len(deltas), n): the moves that would take some pixel of a region, inside or on its
+    border, out of the exemplar (``shape``)."""
+    dy, dx = (np.asarray(deltas).T)[:, :, None]
+    top, bottom, left, right = extents
+    return (top + dy < 0) | (bottom + dy >= shape[0]) | (left + dx < 0) | \
+        (right + dx >= shape[1])
+
+
 def _independent(label, gain):
     """Regions that may move together: those with a gain and no neighbour of a larger gain
     (of an equal one and a lower label)."""
@@ -162,6 +179,7 @@ def _walk(planes, shape, positions, deltas, step, tick, reach):
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     placed = np.zeros(n, bool)
     placed[np.bincount(label.ravel(), minlength=n).argmax()] = True
+    extents = _extents(positions, label, n)
     while not placed.all():
         wave = np.zeros(n, bool)
         wave[pairs[placed[pairs[:, 0]], 1]] = True
@@ -171,9 +189,12 @@ def _walk(planes, shape, positions, deltas, step, tick, reach):
             break
         cost = _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
                            wave, placed)
+        cost[_off(extents, deltas, shape)] = np.inf
         best = cost.argmin(axis=0)
         best[~wave | (cost[best, np.arange(n)] >= cost[still])] = still
-        positions += np.asarray(deltas, np.int32)[best][label]
+        moved = np.asarray(deltas, np.int32)[best]
+        positions += moved[label]
+        extents += moved.T.repeat(2, axis=0)
         placed |= wave
     return positions
 
@@ -227,6 +248,7 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
             break
         cost = _seam_costs(planes, z.shape[:2], positions, label, n, deltas, step, tick,
                            _borders(label, reach))
+        cost[_off(_extents(positions, label, n), deltas, z.shape[:2])] = np.inf
         best = cost.argmin(axis=0)
         gain = cost[still] - cost[best, np.arange(n)]
         move = _independent(label, np.where(best != still, gain, 0.0))
