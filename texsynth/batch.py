@@ -28,7 +28,6 @@ the command line's value): ``photo``, ``maps`` (other maps of the material, ``;`
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import hashlib
 import json
@@ -387,20 +386,31 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
     address = None if client is not None or scheduler is None else scheduler_address(scheduler)
     summary = Summary(total=len(jobs))
     report = progress or (lambda fraction, message: None)
-    todo = [job for job in jobs if not is_done(job, key(job))]
-    summary.skipped = len(jobs) - len(todo)
-    report(summary.skipped / max(len(jobs), 1), f"{summary.skipped} of {len(jobs)} already done")
-    if todo:
-        with _dask_logs_to(_log_path(todo)):
-            try:
-                _submit(todo, summary, client, address, workers, report)
-            except BaseException:
-                # Interrupted: a local cluster's workers are gone, so their files are stale; a
-                # remote task may still be writing its own (it renames it when complete).
-                if client is None and address is None:
-                    _remove_stale(jobs)
-                raise
-    _remove_stale(jobs)
+    todo, starter, logs, ended = [], None, None, False
+    try:
+        for job in jobs:
+            if is_done(job, key(job)):
+                continue
+            todo.append(job)
+            if logs is None:  # work to do: Dask's logs to the file, the cluster starting
+                logs = _route_logs(_log_path(todo))
+                if client is None:  # ... while the main thread hashes the other inputs
+                    starter = _Start(address, workers, _log_path(todo))
+        summary.skipped = len(jobs) - len(todo)
+        report(summary.skipped / max(len(jobs), 1),
+               f"{summary.skipped} of {len(jobs)} already done")
+        if todo:
+            _submit(todo, summary, client if client is not None else starter.client(), report)
+        ended = True
+    finally:
+        if starter is not None:
+            summary.overhead += starter.close()
+        if logs is not None:
+            _restore_logs(logs)
+        # Interrupted: a local cluster's workers are gone, so their files are stale; a remote
+        # task may still be writing its own (it renames it when complete).
+        if ended or (client is None and address is None):
+            _remove_stale(jobs)
     summary.seconds = time.monotonic() - start
     return summary
 
@@ -623,16 +633,6 @@ def _restore_logs(saved: list) -> None:
         logger.propagate = propagate
 
 
-@contextlib.contextmanager
-def _dask_logs_to(path):
-    """In this process, Dask's log lines go to ``path`` while a batch runs."""
-    saved = _route_logs(path)
-    try:
-        yield
-    finally:
-        _restore_logs(saved)
-
-
 def _log_path(jobs: list[Job]) -> Path:
     """``OUTDIR/.texsynth/batch.log`` of the first job's output folder."""
     return Path(jobs[0].outputs[0]).parent / KEYS / LOG
@@ -649,44 +649,71 @@ def _failure(name: str, error: BaseException) -> str:
     return f"{name}: {kind}: {text}"
 
 
-def _submit(todo, summary, client, address, workers, report) -> None:
-    from distributed import Client, as_completed
+class _Start:
+    """The local cluster started (or the scheduler reached) in a thread of its own, so that
+    hashing the inputs and starting Dask overlap; :meth:`client` waits for it."""
 
-    start = time.monotonic()
-    cluster = None
-    own = client is None
-    try:
-        if client is None and address is None:
-            cluster = local_cluster(workers, _log_path(todo))
-            client = Client(cluster)
-        elif client is None:
-            client = _connect(address)
-        summary.overhead += time.monotonic() - start
-        futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
-                                                 for j in todo], pure=False)
-        names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
-        # A task whose result died with its worker is run again and comes back a second time,
-        # "skipped" (its outputs are there): each task counts once, by its key, done if it was.
-        outcome = {}
-        for future in as_completed(futures):
-            name = names[future.key]
-            if future.status == "finished":
-                if outcome.get(future.key) != "done":
-                    outcome[future.key] = future.result()
-            elif future.status == "cancelled":
-                outcome[future.key] = f"{name}: CancelledError: the scheduler dropped it"
-            else:
-                outcome[future.key] = _failure(name, future.exception())
-            finished = summary.skipped + len(outcome)
-            report(finished / summary.total, f"{finished}/{summary.total} {name}")
-        results = list(outcome.values())
-        summary.done = results.count("done")
-        summary.skipped += results.count("skipped")
-        summary.failed = [r for r in results if r not in ("done", "skipped")]
-    finally:
+    def __init__(self, address: str | None, workers: int | None, log: Path):
+        import threading
+
+        self.address, self.workers, self.log = address, workers, log
+        self._client = self._cluster = self._error = None
+        self.seconds = 0.0
+        self._thread = threading.Thread(target=self._start, name="texsynth-dask", daemon=True)
+        self._thread.start()
+
+    def _start(self):
+        from distributed import Client
+
         start = time.monotonic()
-        if own and client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        summary.overhead += time.monotonic() - start
+        try:
+            if self.address is None:
+                self._cluster = local_cluster(self.workers, self.log)
+                self._client = Client(self._cluster)
+            else:
+                self._client = _connect(self.address)
+        except BaseException as error:  # noqa: BLE001 - raised again in the caller's thread
+            self._error = error
+        self.seconds = time.monotonic() - start
+
+    def client(self):
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+        return self._client
+
+    def close(self) -> float:
+        """Close what was started (once it is up); seconds of starting and closing."""
+        self._thread.join()
+        start = time.monotonic()
+        if self._client is not None:
+            self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+        return self.seconds + time.monotonic() - start
+
+
+def _submit(todo, summary, client, report) -> None:
+    from distributed import as_completed
+
+    futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
+                                             for j in todo], pure=False)
+    names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
+    # A task whose result died with its worker is run again and comes back a second time,
+    # "skipped" (its outputs are there): each task counts once, by its key, done if it was.
+    outcome = {}
+    for future in as_completed(futures):
+        name = names[future.key]
+        if future.status == "finished":
+            if outcome.get(future.key) != "done":
+                outcome[future.key] = future.result()
+        elif future.status == "cancelled":
+            outcome[future.key] = f"{name}: CancelledError: the scheduler dropped it"
+        else:
+            outcome[future.key] = _failure(name, future.exception())
+        finished = summary.skipped + len(outcome)
+        report(finished / summary.total, f"{finished}/{summary.total} {name}")
+    results = list(outcome.values())
+    summary.done = results.count("done")
+    summary.skipped += results.count("skipped")
+    summary.failed = [r for r in results if r not in ("done", "skipped")]
