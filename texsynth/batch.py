@@ -551,7 +551,9 @@ def _worker_environment() -> dict:
     (medians of 4: 7.1 s against 5.5 s); that setting is undone. Beyond it, glibc maps each
     array above its moving threshold (at most 32 MiB) afresh and unmaps it when freed; a task
     of the batch section faulted 614 000 pages in for it (1.9 s of system time in three tasks),
-    12 000 with the arrays kept on the heap (:data:`WORKER_MALLOC`). A worker then keeps its
+    12 000 with the arrays kept on the heap (:data:`WORKER_MALLOC`), and the batch of 6 took
+    72.6 and 64.6 s against 120.1 and 113.8 s without (load average 4.5-6.7 on 2 cores; the
+    system time of faults grows with the load). A worker then keeps its
     largest task's memory for the next one; the one-thread BLAS settings stay. (Dask takes a
     variable of the starting process's environment over these: :func:`local_cluster` sets
     them there while the workers start.)
