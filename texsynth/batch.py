@@ -218,6 +218,22 @@ def _params_tag(params: dict) -> str:
 
 # --- the batch ------------------------------------------------------------------------------
 
+#: Dask's own log lines (a worker lost, a task's traceback), in the keys folder: the user sees
+#: one line per failed task, never Dask's logging. Made only when Dask logs a warning or worse.
+LOG = "batch.log"
+#: How a local cluster's worker processes learn the log's path (read by :func:`dask_setup`).
+LOG_VARIABLE = "TEXSYNTH_BATCH_LOG"
+#: Loggers to which Dask's logging configuration gives a handler writing to stderr.
+DASK_LOGGERS = ("distributed", "tornado", "bokeh", "asyncio")
+#: Seconds a scheduler has to answer (a connection and Dask's handshake).
+CONNECT_TIMEOUT = 10.0
+#: The address schemes of a scheduler a batch can reach from another process.
+SCHEMES = ("tcp", "tls")
+#: glibc's settings in a local cluster's worker processes: work arrays come from a heap that
+#: keeps freed memory for the next ones (see :func:`_worker_environment`).
+WORKER_MALLOC = {"MALLOC_MMAP_THRESHOLD_": str(1 << 30), "MALLOC_TRIM_THRESHOLD_": str(1 << 34)}
+
+
 def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         workers: int | None = None,
         progress: Callable[[float, str], object] | None = None) -> Summary:
@@ -230,6 +246,13 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
     folder).
     ``progress(fraction, message)`` hears of each finished task.
 
+    Raises ``ValueError`` for a ``scheduler`` that is no scheduler address, before any work,
+    and ``ConnectionError`` when no Dask scheduler answers there within
+    :data:`CONNECT_TIMEOUT` seconds. A failed task is one line of ``Summary.failed``
+    (``output: ErrorType: message``); Dask's own log lines go to ``OUTDIR/.texsynth/batch.log``.
+    ``KeyboardInterrupt`` closes the local cluster and propagates; the temporary files of the
+    tasks it stopped are removed.
+
     References
     ----------
     Dask distributed's resilience: a lost worker's tasks are recomputed on the others
@@ -237,18 +260,42 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
     ``as_completed``).
     """
     start = time.monotonic()
+    address = None if client is not None or scheduler is None else scheduler_address(scheduler)
     summary = Summary(total=len(jobs))
     report = progress or (lambda fraction, message: None)
-    todo = [job for job in jobs if not is_done(job, key(job))]
-    summary.skipped = len(jobs) - len(todo)
-    report(summary.skipped / max(len(jobs), 1), f"{summary.skipped} of {len(jobs)} already done")
-    if todo:
-        _submit(todo, summary, client, scheduler, workers, report)
+    todo, starter, logs, ended = [], None, None, False
+    try:
+        for job in jobs:
+            if is_done(job, key(job)):
+                continue
+            todo.append(job)
+            if logs is None:  # work to do: Dask's logs to the file, the cluster starting
+                logs = _route_logs(_log_path(todo))
+                if client is None:  # ... while the main thread hashes the other inputs
+                    starter = _Start(address, workers, _log_path(todo))
+        summary.skipped = len(jobs) - len(todo)
+        report(summary.skipped / max(len(jobs), 1),
+               f"{summary.skipped} of {len(jobs)} already done")
+        if todo:
+            _submit(todo, summary, client if client is not None else starter.client(), report)
+        ended = True
+    finally:
+        if starter is not None:
+            summary.overhead += starter.close()
+        if logs is not None:
+            _restore_logs(logs)
+        # Interrupted: a local cluster's workers are gone, so their files are stale; a remote
+        # task may still be writing its own (it renames it when complete).
+        if ended or (client is None and address is None):
+            _remove_stale(jobs)
+    summary.seconds = time.monotonic() - start
+    return summary
+
+
+def _remove_stale(jobs: list[Job]) -> None:
     for folder in {Path(out).parent for job in jobs for out in job.outputs}:
         for stale in [*folder.glob(TEMP_PREFIX + "*"), *(folder / KEYS).glob(TEMP_PREFIX + "*")]:
             stale.unlink(missing_ok=True)  # left by killed tasks; every task has ended
-    summary.seconds = time.monotonic() - start
-    return summary
 
 
 def default_workers() -> int:
@@ -262,54 +309,290 @@ def default_workers() -> int:
     return max(1, (os.cpu_count() or 1) // 4)
 
 
-def _submit(todo, summary, client, scheduler, workers, report) -> None:
-    import dask
-    from distributed import Client, LocalCluster, as_completed
+def scheduler_address(text: str) -> str:
+    """``tcp://HOST:PORT`` from ``HOST:PORT`` or a ``tcp://`` or ``tls://`` address; else a
+    ``ValueError`` naming what is wrong (before any connection is tried).
 
-    start = time.monotonic()
-    cluster = None
-    if client is None and scheduler is None:
-        # Dask's nanny sets MALLOC_TRIM_THRESHOLD_ in its workers, so glibc hands freed memory
-        # back at once and every fresh work array faults its pages in again: a task ran about
-        # 1.3x as long (medians of 4: 7.1 s against 5.5 s). The one-thread BLAS settings stay.
-        with dask.config.set({NO_TRIM: None}):  # None: not set (distributed.nanny)
-            cluster = LocalCluster(n_workers=workers or default_workers(),
-                                   threads_per_worker=1, processes=True, dashboard_address=None,
-                                   silence_logs=logging.ERROR)  # the summary says what happened
-    own = client is None
-    if client is None:
-        try:
-            client = Client(cluster if cluster is not None else scheduler, timeout="20s")
-        except (OSError, TimeoutError) as error:
-            raise ConnectionError(f"{scheduler}: no Dask scheduler answers there "
-                                  f"({type(error).__name__})") from None
-    summary.overhead += time.monotonic() - start
+    ``inproc://`` addresses are left out: they name a scheduler inside the same process, which
+    a batch reaches through ``client=``.
+
+    Examples
+    --------
+    >>> scheduler_address("render-01:8786"), scheduler_address("tls://10.0.0.5:8786")
+    ('tcp://render-01:8786', 'tls://10.0.0.5:8786')
+    >>> scheduler_address("bogus")
+    Traceback (most recent call last):
+    ...
+    ValueError: scheduler 'bogus': not a Dask scheduler address; give tcp://HOST:PORT (e.g. tcp://render-01:8786)
+    """
+    form = "give tcp://HOST:PORT (e.g. tcp://render-01:8786)"
+    scheme, sep, rest = str(text).strip().rpartition("://")
+    if not sep:
+        scheme = "tcp"
+    if scheme in ("http", "https"):
+        raise ValueError(f"scheduler {text!r}: a web address (the dashboard?); a Dask "
+                         f"scheduler listens on tcp:// (port 8786 by default): {form}")
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheduler {text!r}: the scheme must be {' or '.join(SCHEMES)}, "
+                         f"not {scheme!r}: {form}")
+    host, colon, port = rest.rpartition(":")
+    if "/" in rest or not colon or not host.strip("[]") or not port.isdigit() \
+            or not 0 < int(port) < 65536:
+        raise ValueError(f"scheduler {text!r}: not a Dask scheduler address; {form}")
+    return f"{scheme}://{host}:{int(port)}"
+
+
+def _connect(address: str, timeout: float | None = None):
+    """A ``Client`` of the scheduler at ``address``, or a ``ConnectionError`` within about
+    ``timeout`` seconds (default :data:`CONNECT_TIMEOUT`). Dask's own connect waits for the
+    handshake without a limit: a web server or a silent port would hold the batch for
+    minutes."""
+    import asyncio
+    import socket
+    import threading
+
+    from distributed import Client
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    def fail(why):
+        return ConnectionError(f"{address}: no Dask scheduler answers there ({why})")
+
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
+
+    host, port = address.split("://", 1)[1].rsplit(":", 1)
     try:
-        futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
-                                                 for j in todo], pure=False)
-        names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
-        # A task whose result died with its worker is run again and comes back a second time,
-        # "skipped" (its outputs are there): each task counts once, by its key, done if it was.
-        outcome = {}
-        for future in as_completed(futures):
-            name = names[future.key]
-            if future.status == "finished":
-                if outcome.get(future.key) != "done":
-                    outcome[future.key] = future.result()
-            else:
-                error = future.exception()
-                outcome[future.key] = f"{name}: {type(error).__name__}: {error}"
-            finished = summary.skipped + len(outcome)
-            report(finished / summary.total, f"{finished}/{summary.total} {name}")
-        results = list(outcome.values())
-        summary.done = results.count("done")
-        summary.skipped += results.count("skipped")
-        summary.failed = [r for r in results if r not in ("done", "skipped")]
-    finally:
-        start = time.monotonic()
-        if own:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        summary.overhead += time.monotonic() - start
+        socket.create_connection((host.strip("[]"), int(port)), timeout=timeout).close()
+    except socket.gaierror as error:
+        raise fail(f"unknown host: {error.strerror}") from None
+    except TimeoutError:
+        raise fail(f"no connection in {timeout:g} s") from None
+    except OSError as error:
+        raise fail(error.strerror or type(error).__name__) from None
 
+    async def handshake():
+        args = Security().get_connection_args("client")
+        comm = await asyncio.wait_for(connect(address, timeout=timeout, **args), timeout)
+        await comm.close()
+
+    outcome: list[BaseException | None] = []
+
+    def probe():  # a thread of its own: the caller may be inside an event loop (Jupyter)
+        try:
+            asyncio.run(handshake())
+            outcome.append(None)
+        except BaseException as error:  # noqa: BLE001 - reported below, as one line
+            outcome.append(error)
+
+    thread = threading.Thread(target=probe, name="texsynth-connect", daemon=True)
+    thread.start()
+    thread.join(timeout + 5)
+    if not outcome or isinstance(outcome[0], (TimeoutError, asyncio.TimeoutError)):
+        raise fail(f"no Dask handshake in {timeout:g} s")
+    if outcome[0] is not None:
+        raise fail(f"it does not speak Dask's protocol: {type(outcome[0]).__name__}")
+    try:
+        return Client(address, timeout=timeout)
+    except (OSError, TimeoutError) as error:
+        raise fail(type(error).__name__) from None
+
+
+def local_cluster(workers: int | None = None, log: str | os.PathLike | None = None):
+    """The local cluster of a batch: ``workers`` processes (:func:`default_workers`) of one
+    thread each, Dask's log lines to the file ``log`` (or nowhere), texsynth imported in each
+    worker while it starts, glibc's heap kept (:func:`_worker_environment`)."""
+    import dask
+    from distributed import LocalCluster
+
+    environ = dict(os.environ)
+    os.environ.update(WORKER_MALLOC)  # Dask takes this process's values over its settings
+    try:
+        with dask.config.set(_worker_environment()):
+            return LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
+                                processes=True, dashboard_address=None,
+                                silence_logs=logging.CRITICAL, preload=[__name__],
+                                env={LOG_VARIABLE: str(log or "")})
+    finally:  # as the nanny does, each time it starts a worker: this process's are kept
+        for name in [n for n in os.environ if os.environ[n] != environ.get(n)]:
+            if name in environ:
+                os.environ[name] = environ[name]
+            else:
+                del os.environ[name]
+
+
+def _worker_environment() -> dict:
+    """Dask settings for the worker processes' environment.
+
+    Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_=65536``, so glibc hands freed memory back at
+    once and every fresh work array faults its pages in again: a task ran about 1.3x as long
+    (medians of 4: 7.1 s against 5.5 s); that setting is undone. Beyond it, glibc maps each
+    array above its moving threshold (at most 32 MiB) afresh and unmaps it when freed; a task
+    of the batch section faulted 614 000 pages in for it (1.9 s of system time in three tasks),
+    12 000 with the arrays kept on the heap (:data:`WORKER_MALLOC`), and the batch of 6 took
+    72.6 and 64.6 s against 120.1 and 113.8 s without (load average 4.5-6.7 on 2 cores; the
+    system time of faults grows with the load). A worker then keeps its
+    largest task's memory for the next one; the one-thread BLAS settings stay. (Dask takes a
+    variable of the starting process's environment over these: :func:`local_cluster` sets
+    them there while the workers start.)
+    """
+    key = "distributed.nanny.pre-spawn-environ."
+    # A worker's memory is mostly its kept heap, not Dask's data (a task returns a word): no
+    # spilling, and no pause that would wait for memory a kept heap never hands back; Dask
+    # still ends a worker past 95 % of its share of the memory.
+    return {**{key + name: value for name, value in WORKER_MALLOC.items()},
+            "distributed.worker.memory.target": False, "distributed.worker.memory.spill": False,
+            "distributed.worker.memory.pause": False}
+
+
+def dask_setup(worker) -> None:
+    """Dask's preload hook, run in each worker process of :func:`local_cluster` as it starts
+    (the import of this module is the warm-up: texsynth is loaded before the first task).
+
+    Dask's log lines go to the batch's log file (:data:`LOG_VARIABLE`) instead of the
+    terminal's stderr, and Ctrl+C in the terminal is left to the batch's own process, which
+    closes the cluster (the workers are in the terminal's process group and would each print
+    a traceback).
+    """
+    import signal
+    import threading
+
+    _route_logs(os.environ.get(LOG_VARIABLE) or None)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class _LogFile(logging.Handler):
+    """Appends each record to a file, made when the first record comes (several processes may
+    write to it: each record is one append). Not a ``StreamHandler``: Dask's ``silence_logs``
+    sets the level of those."""
+
+    def __init__(self, path: Path):
+        super().__init__(logging.WARNING)
+        self.path = path
+        self.setFormatter(logging.Formatter("%(asctime)s %(process)d %(name)s %(levelname)s "
+                                            "%(message)s"))
+
+    def emit(self, record):
+        try:
+            text = self.format(record) + "\n"
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            with open(self.path, "a", encoding="utf-8") as f:
+                f.write(text)
+        except Exception:  # noqa: BLE001 - a log line lost is no reason to fail a task
+            pass
+
+
+def _route_logs(path) -> list:
+    """Dask's loggers write to ``path`` (or nowhere) instead of stderr; what they had before,
+    for :func:`_restore_logs`."""
+    handler = _LogFile(Path(path)) if path else logging.NullHandler()
+    names = [n for n in list(logging.root.manager.loggerDict)
+             if n.split(".")[0] in DASK_LOGGERS] + list(DASK_LOGGERS)
+    saved = []
+    for name in dict.fromkeys(names):
+        logger = logging.getLogger(name)
+        if name not in DASK_LOGGERS and not logger.handlers:
+            continue  # a child without handlers of its own: its records reach its parent's
+        saved.append((logger, list(logger.handlers), logger.propagate))
+        for old in list(logger.handlers):
+            if isinstance(old, logging.StreamHandler) and not isinstance(old,
+                                                                        logging.FileHandler):
+                logger.removeHandler(old)
+        logger.addHandler(handler)
+        logger.propagate = False
+    return saved
+
+
+def _restore_logs(saved: list) -> None:
+    for logger, handlers, propagate in saved:
+        for handler in list(logger.handlers):
+            logger.removeHandler(handler)
+        for handler in handlers:
+            logger.addHandler(handler)
+        logger.propagate = propagate
+
+
+def _log_path(jobs: list[Job]) -> Path:
+    """``OUTDIR/.texsynth/batch.log`` of the first job's output folder."""
+    return Path(jobs[0].outputs[0]).parent / KEYS / LOG
+
+
+def _failure(name: str, error: BaseException) -> str:
+    """One line for a failed task: ``name: ErrorType: message``."""
+    kind = type(error).__name__
+    if kind == "KilledWorker":  # distributed.scheduler.KilledWorker: a long paragraph
+        text = ("its worker process died each time it ran it (out of memory? killed?); see "
+                f"{LOG} in the output folder's {KEYS}")
+    else:
+        text = " ".join(str(error).split()) or "(no message)"
+    return f"{name}: {kind}: {text}"
+
+
+class _Start:
+    """The local cluster started (or the scheduler reached) in a thread of its own, so that
+    hashing the inputs and starting Dask overlap; :meth:`client` waits for it."""
+
+    def __init__(self, address: str | None, workers: int | None, log: Path):
+        import threading
+
+        self.address, self.workers, self.log = address, workers, log
+        self._client = self._cluster = self._error = None
+        self.seconds = 0.0
+        self._thread = threading.Thread(target=self._start, name="texsynth-dask", daemon=True)
+        self._thread.start()
+
+    def _start(self):
+        from distributed import Client
+
+        start = time.monotonic()
+        try:
+            if self.address is None:
+                self._cluster = local_cluster(self.workers, self.log)
+                self._client = Client(self._cluster)
+            else:
+                self._client = _connect(self.address)
+        except BaseException as error:  # noqa: BLE001 - raised again in the caller's thread
+            self._error = error
+        self.seconds = time.monotonic() - start
+
+    def client(self):
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+        return self._client
+
+    def close(self) -> float:
+        """Close what was started (once it is up); seconds of starting and closing."""
+        self._thread.join()
+        start = time.monotonic()
+        if self._client is not None:
+            self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+        return self.seconds + time.monotonic() - start
+
+
+def _submit(todo, summary, client, report) -> None:
+    from distributed import as_completed
+
+    futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
+                                             for j in todo], pure=False)
+    names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
+    # A task whose result died with its worker is run again and comes back a second time,
+    # "skipped" (its outputs are there): each task counts once, by its key, done if it was.
+    outcome = {}
+    for future in as_completed(futures):
+        name = names[future.key]
+        if future.status == "finished":
+            if outcome.get(future.key) != "done":
+                outcome[future.key] = future.result()
+        elif future.status == "cancelled":
+            outcome[future.key] = f"{name}: CancelledError: the scheduler dropped it"
+        else:
+            outcome[future.key] = _failure(name, future.exception())
+        finished = summary.skipped + len(outcome)
+        report(finished / summary.total, f"{finished}/{summary.total} {name}")
+    results = list(outcome.values())
+    summary.done = results.count("done")
+    summary.skipped += results.count("skipped")
+    summary.failed = [r for r in results if r not in ("done", "skipped")]
