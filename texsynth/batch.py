@@ -66,10 +66,6 @@ from .jobs import (
 __all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "run", "run_job",
            "is_done"]
 
-#: The Dask setting that makes worker processes hand freed memory back at once (see _submit).
-NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
-
-
 @dataclass(frozen=True)
 class Defaults:
     """The command line's values, for every photo of a folder and every empty manifest cell."""

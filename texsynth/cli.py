@@ -28,6 +28,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from . import batch as batch_module
+from .budget import forecast_line
 from .io.files import encode, is_linear
 from .jobs import (
     DEFAULT_METHOD,
@@ -230,8 +231,9 @@ def _add_output_options(parser: argparse.ArgumentParser, maps: bool) -> None:
 
 # --- the subcommands ------------------------------------------------------------------------
 
-def _file_job(args, operation: str, **fields) -> Job:
-    """The command line's one job, checked as a batch's are (``texsynth.jobs``)."""
+def _file_job(args, operation: str, **fields) -> tuple[Job, float]:
+    """The command line's one job, checked as a batch's are (``texsynth.jobs``), and its
+    predicted seconds (the predicted time and memory are printed before the work)."""
     out = args.output
     job = Job(photo=str(args.photo), maps=tuple(map(str, args.maps)), operation=operation,
               outputs=(str(out), *(str(out.with_name(m.stem + out.suffix)) for m in args.maps)),
@@ -239,11 +241,14 @@ def _file_job(args, operation: str, **fields) -> Job:
               preview=str(out.with_name(out.stem + "_tiled.png")) if args.preview else None,
               in_size=args.in_size, **fields)
     check_plan([job])
-    preflight([job])
-    return job
+    ((seconds, peak),) = preflight([job])
+    print(forecast_line(seconds, peak), file=sys.stderr)
+    return job, seconds
 
 
-def _execute(job: Job, bar: Bar) -> None:
+def _execute(planned: tuple[Job, float], bar: Bar) -> None:
+    job, seconds = planned
+    bar.left = TimeLeft(seconds)  # the clock starts with the work
     written = execute(job, progress=bar)
     bar.close()
     for path in written:
@@ -332,6 +337,11 @@ def run_batch(args, bar: Bar) -> None:
     params = method_params(args)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers: at least 1 worker process, got {args.workers}")
+    if args.scheduler is not None:
+        try:
+            batch_module.scheduler_address(args.scheduler)
+        except ValueError as error:
+            raise UsageError(f"--{error}") from None
     defaults = batch_module.Defaults(
         operations=tuple(args.operation or ("synthesize",)), method=args.method,
         size=args.size, seed=args.seed, params=params, band=args.band, format=args.format,

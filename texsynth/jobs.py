@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import api, tileable, validation
+from . import api, budget, tileable, validation
 from .blocks.periodic import tile_preview
 from .blocks.resample import resample
 from .io.files import (
@@ -296,8 +296,10 @@ def in_shape(shape, in_size: tuple[int, int] | None) -> tuple[int, int, int]:
     return (height, width, c)
 
 
-def preflight(jobs: list[Job]) -> None:
-    """Check every job as far as it can be without the work, then make the output folders.
+def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
+    """Check every job as far as it can be without the work, then make the output folders;
+    each job's predicted (seconds, peak bytes) on this machine (``budget.forecast``,
+    ``tileable.predict``).
 
     Raises :class:`InputError` for an input that is missing, a folder or not a readable image,
     or a map of another size than its photo; :class:`UsageError` for a bad size, seed, band or
@@ -305,6 +307,7 @@ def preflight(jobs: list[Job]) -> None:
     cannot be made or written (checked by making and removing a temporary file in it).
     """
     shapes: dict[str, tuple] = {}
+    forecasts = []
 
     def shape(job, path):
         if path not in shapes:
@@ -321,27 +324,30 @@ def preflight(jobs: list[Job]) -> None:
                 raise InputError(f"{job.origin + ': ' if job.origin else ''}{path}: "
                                  f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
                                  f"photo's {photo[1]} x {photo[0]}")
-        _check_run(job, in_shape(photo, job.in_size))
+        forecasts.append(_check_run(job, in_shape(photo, job.in_size)))
     for folder in dict.fromkeys(Path(out).parent for job in jobs for out in job.all_outputs()):
         check_folder(folder)
+    return forecasts
 
 
-def _check_run(job: Job, shape) -> None:
-    """The method's own checks (``api.check``, ``tileable.check``) on the photo's shape."""
+def _check_run(job: Job, shape) -> tuple[float, float]:
+    """The method's own checks (``api.check``, ``tileable.check``) on the photo's shape, and
+    the run's predicted (seconds, peak bytes)."""
     if job.operation not in OPERATIONS:
         raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
                          f"{job.operation!r}")
     try:
         if job.operation == "tile":
-            tileable.check(shape, band=job.band, seed=job.seed)
-            return
+            band, _ = tileable.check(shape, band=job.band, seed=job.seed)
+            return tileable.predict(shape, band)
         method = get_method(job.method)
         if job.maps and not method.positions:
             copying = ", ".join(m.name for m in methods() if m.positions)
             raise UsageError(f"{job.at('maps')}: method {job.method} does not copy photo "
                              f"pixels, so other maps cannot follow it; use one of {copying}")
-        api.check(shape, job.width, job.height, method=job.method, seed=job.seed,
-                  **dict(job.params))
+        width, height, _, params = api.check(shape, job.width, job.height, method=job.method,
+                                             seed=job.seed, **dict(job.params))
+        return budget.forecast(job.method, shape, width, height, params)
     except validation.BudgetError as error:
         raise RefusedError(f"{job.origin + ': ' if job.origin else ''}{job.photo}: "
                            f"{error}") from None
