@@ -14,11 +14,12 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import texsynth
 from texsynth import batch
-from texsynth.io import write_png
+from texsynth.io import write_exr, write_png
 from texsynth.io.files import TEMP_PREFIX
 
 from _images import ramp_photo
@@ -71,11 +72,16 @@ def cluster_client(tmp_path_factory):
 def test_a_failed_task_is_one_line_and_dask_logs_reach_no_terminal(tmp_path, cluster_client,
                                                                      capfd):
     client, workers_stderr, workers_log = cluster_client
-    jobs = _jobs(tmp_path, [64, 4])  # 4 x 4: below the method's smallest photo, refused
+    photos = _photos(tmp_path / "in", [64])
+    damaged = ramp_photo((64, 64))
+    damaged[3, 3] = np.nan  # a header that reads: refused by the task, not by the plan
+    write_exr(photos / "photo1.exr", damaged)
+    jobs = batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE),
+                                                               method="heeger_bergen"))
     summary = batch.run(jobs, client=client)
     assert summary.done == 1 and len(summary.failed) == 1
     (line,) = summary.failed
-    assert line.startswith("photo1_heeger_bergen_48x48_s0.png: ValueError: ") and "\n" not in line
+    assert line.startswith("photo1_heeger_bergen_48x48_s0.exr: InputError: ") and "\n" not in line
     out, err = capfd.readouterr()
     assert not _dask_lines(err) and not _dask_lines(out), err
     assert not _dask_lines(workers_stderr.read_text()), workers_stderr.read_text()
@@ -128,7 +134,7 @@ def test_a_bad_scheduler_address_is_refused_before_any_work(tmp_path, address):
     with pytest.raises(ValueError, match="scheduler .*(tcp://HOST:PORT|port 8786)") as error:
         batch.run(jobs, scheduler=address)
     assert time.monotonic() - start < 2 and "\n" not in str(error.value)
-    assert not (tmp_path / "out").exists()
+    assert not any((tmp_path / "out").iterdir())  # plan made the folder; nothing is in it
 
 
 def _server(reply):

@@ -242,7 +242,8 @@ def _file_job(args, operation: str, **fields) -> tuple[Job, float]:
               in_size=args.in_size, **fields)
     check_plan([job])
     ((seconds, peak),) = preflight([job])
-    print(forecast_line(seconds, peak), file=sys.stderr)
+    if not args.quiet:
+        print(forecast_line(seconds, peak), file=sys.stderr)
     return job, seconds
 
 

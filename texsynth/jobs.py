@@ -349,11 +349,14 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
                                              seed=job.seed, **dict(job.params))
         return budget.forecast(job.method, shape, width, height, params)
     except validation.BudgetError as error:
-        raise RefusedError(f"{job.origin + ': ' if job.origin else ''}{job.photo}: "
-                           f"{error}") from None
+        raise RefusedError(f"{_named(job)}: {error}") from None
     except ValueError as error:
-        raise UsageError(f"{job.origin + ': ' if job.origin else ''}{job.photo}: "
-                         f"{error}") from None
+        raise UsageError(f"{_named(job)}: {error}") from None
+
+
+def _named(job: Job) -> str:
+    """The job's origin and photo, once each (a folder's job has its photo as origin)."""
+    return ": ".join(dict.fromkeys(filter(None, (job.origin, job.photo))))
 
 
 def check_folder(folder: Path) -> None:
@@ -512,7 +515,7 @@ def run_job(job: Job) -> str:
     >>> write_image(folder / "sand.png", np.random.default_rng(0).random((32, 32, 3)))
     >>> job = Job(photo=str(folder / "sand.png"), outputs=(str(folder / "out.png"),),
     ...           method="heeger_bergen", width=24, height=24)
-    >>> preflight([job])
+    >>> ((seconds, peak),) = preflight([job])  # the predicted time and memory
     >>> run_job(job), run_job(job)
     ('done', 'skipped')
     """
