@@ -83,13 +83,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import budget, validation
+from . import budget, metrics, validation
 from .blocks import poisson
+from .blocks.joints import luma
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
 __all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict",
-           "check"]
+           "check", "tiles"]
 
 #: Narrowest band accepted, and the default band's least width (pixels).
 MIN_BAND, DEFAULT_MIN = 8, 16
@@ -114,6 +115,22 @@ TOLERANCE = 0.1
 UNLIKE = 1.5
 #: Fewest inner rows to judge by; with fewer, every row is matched.
 MIN_INNER = 8
+#: A photo already tiles when its wrap reads as its own lines: the seam ratio in phase within
+#: 1 +- TILES (``metrics.seam_ratio_in_phase``; a photo's interior crosses read 0.85-1.2).
+TILES = 0.1
+
+
+def tiles(photo: np.ndarray) -> bool:
+    """Does ``photo`` (H, W[, C]) tile as it is? Its wrap as seamless as its own lines: the
+    seam ratio in phase (luminance) within ``1 +- TILES``.
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(0).random((64, 64))  # white noise tiles; with a ramp, not
+    >>> tiles(x), tiles(x + np.linspace(0, 1, 64)[:, None])
+    (True, False)
+    """
+    return abs(metrics.seam_ratio_in_phase(luma(photo)) - 1.0) <= TILES
 
 
 def default_band(shape) -> int:
@@ -451,7 +468,8 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     -------
     numpy.ndarray
         Every pixel farther than ``band / 2`` from the photo's edges unchanged; the band made
-        of photo pieces, their level corrected to meet the kept photo without a step.
+        of photo pieces, their level corrected to meet the kept photo without a step. A photo
+        that already tiles (:func:`tiles`) comes back as it is.
 
     References
     ----------
@@ -520,6 +538,9 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     scale = validation.magnitude_scale(a)
     given, a = a, a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
     report = Progress(progress)
+    if tiles(a):  # the photo already tiles: returned as it is, every pixel its own position
+        report(1.0, "Make tileable: the photo already tiles")
+        return given.copy(), np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
     report(0.0, "Make tileable: starting")
 
     rng = np.random.default_rng(seed)
@@ -557,8 +578,9 @@ def follow(positions, image, *, band: int | None = None) -> np.ndarray:
     """Another map of the photo's material (normal, roughness, height... of the photo's size)
     made to tile the way :func:`make_tileable_positions` made the photo: its pixels moved by
     ``positions``, then the band corrected from the map's own gradients (Pérez et al. 2003, as
-    the photo's). ``band`` must be the one the photo was made with (default
-    :func:`default_band`). Given the photo itself, it gives back the photo's result bit for bit.
+    the photo's); identity positions (the photo already tiled) leave the map as it is.
+    ``band`` must be the one the photo was made with (default :func:`default_band`). Given the
+    photo itself, it gives back the photo's result bit for bit.
 
     Returns
     -------
@@ -589,6 +611,8 @@ def follow(positions, image, *, band: int | None = None) -> np.ndarray:
     if not MIN_BAND <= band <= _widest(given.shape):
         raise ValueError(f"band must be between {MIN_BAND} and {_widest(given.shape)} pixels, "
                          f"the band the photo was made with, got {band}")
+    if (p == np.moveaxis(np.indices(p.shape[:2]), 0, 2)).all():  # a photo that already tiled
+        return given.copy()
     scale = validation.magnitude_scale(given)
     a = given if scale == 1.0 else (given.astype(np.float64) * scale).astype(np.float32)
     return _correct(a[p[:, :, 0], p[:, :, 1]], given, a, scale, p, band)
