@@ -54,10 +54,11 @@ Deviations, one line each:
   repeats along the band);
 - the overlap is matched on the colours and on the local contrast (``_contrast``: the root of
   ``CONTRAST`` x the variance within ``CONTRAST_BOX`` pixels; on the search's grid, within a
-  block): by SSD alone a flat patch fits any textured overlap best (two windows of gravel
-  differ by twice its variance, ground and gravel by once), and a mixture's band (smooth
-  ground, rough gravel) was quilted from the ground, a soft cross (seam ratio 0.27-0.69 over 6
-  seeds of a 256 crop); with ``CONTRAST`` above 1 the gravel's own patches fit it best;
+  block, ``_coarse``; the refinement of a grid's candidates on the colours alone): by SSD
+  alone a flat patch fits any textured overlap best (two windows of gravel differ by twice
+  its variance, ground and gravel by once), and a mixture's band (smooth ground, rough
+  gravel) was quilted from the ground, a soft cross (seam ratio 0.27-0.69 over 6 seeds of a
+  256 crop); with ``CONTRAST`` above 1 the gravel's own patches fit it best;
 - rows of the band whose mean colour (across the arm) is like none of the rows farther than
   ``band`` from the photo's edges are not matched (Efros & Freeman weigh the whole overlap
   alike): on the brick wall photo a dark ledge along the bottom edge drew patches that
@@ -216,14 +217,15 @@ class _Source:
     """The photo (or its transpose, for the vertical arm) as the patches' source: the search
     for the patch that fits a template, and a patch's pixels and photo positions."""
 
-    def __init__(self, image: np.ndarray, contrast: np.ndarray, coarse: np.ndarray | None,
-                 f: int, e: int, swap: bool):
+    def __init__(self, image: np.ndarray, contrast: np.ndarray | None,
+                 coarse: np.ndarray | None, f: int, e: int, swap: bool):
         self.image, self.f, self.e, self.swap = image, f, e, swap
-        # The photo's contrast (:func:`_contrast`), as the photo is: templates read it at
-        # their pixels' positions; and as this source is (transposed or not), from its edge.
-        self.contrast = contrast
-        ours = contrast.T if swap else contrast
-        self.own = ours[e:ours.shape[0] - e, e:ours.shape[1] - e, None]
+        # Searched at full resolution (f == 1): the photo's contrast (:func:`_contrast`), as
+        # the photo is (templates read it at their pixels' positions), and as this source is.
+        self.contrast, self.own = contrast, None
+        if f == 1:
+            ours = contrast.T if swap else contrast
+            self.own = ours[e:ours.shape[0] - e, e:ours.shape[1] - e, None]
         self.search = Search(coarse if f > 1 else np.concatenate([image, self.own], axis=2))
 
     def _excluded(self, shape, ph, pw, used) -> np.ndarray:
@@ -244,16 +246,16 @@ class _Source:
         the photo positions ``at``) weighted by ``mask``: the ``CANDIDATES`` best placements
         on the search's grid (apart from each other, none more than half covered by a
         ``used`` window) refined at full resolution, then one of those within the tolerance
-        of the best, at random. Matched with the colours: the local contrast (``_contrast``,
-        ``_coarse`` on the search's grid)."""
+        of the best, at random. Matched with the colours: the local contrast (on the search's
+        grid, ``_coarse``; at full resolution, ``_contrast``, where the search is there)."""
         ph, pw = mask.shape
         f = self.f
-        template = np.concatenate([template, self.contrast[at[:, :, 0], at[:, :, 1], None]],
-                                  axis=2)
         if f > 1:
-            ssd = self.search.ssd(_coarse(template[:, :, :-1], f), block_means(
-                mask[:, :, None], f)[:, :, 0])
+            ssd = self.search.ssd(_coarse(template, f), block_means(mask[:, :, None], f)[
+                :, :, 0])
         else:
+            template = np.concatenate(
+                [template, self.contrast[at[:, :, 0], at[:, :, 1], None]], axis=2)
             ssd = self.search.ssd(template, mask)
         excluded = self._excluded(ssd.shape, ph, pw, used)
         if excluded.all():
@@ -271,7 +273,8 @@ class _Source:
             y0 = max(0, min(y * f - f, h - ph - 2 * f))
             x0 = max(0, min(x * f - f, w - pw - 2 * f))
             rows, cols = slice(y0, y0 + ph + 2 * f), slice(x0, x0 + pw + 2 * f)
-            fine = Search(np.concatenate([self.image[rows, cols], self.own[rows, cols]], axis=2))
+            fine = Search(self.image[rows, cols] if self.own is None else
+                          np.concatenate([self.image[rows, cols], self.own[rows, cols]], axis=2))
             prepared = prepared or fine.prepare(template, mask)
             errors = fine.ssd(template, mask, prepared)
             dy, dx = np.unravel_index(errors.argmin(), errors.shape)
@@ -307,11 +310,12 @@ def _contrast(image: np.ndarray) -> np.ndarray:
 
 def _coarse(image: np.ndarray, f: int) -> np.ndarray:
     """``image``'s ``f`` x ``f`` block means and their contrast as one more channel: the root
-    of ``CONTRAST`` x the variance within each block, its channels' summed (float64)."""
+    of ``CONTRAST`` x the variance within each block, its channels' summed, over ``f^2`` (the
+    variance of a block mean of ``f^2`` independent pixels), float64."""
     mean = block_means(image, f)
     square = block_means(np.einsum("ijc,ijc->ij", image, image)[:, :, None], f)[:, :, 0]
     v = np.maximum(square - np.einsum("ijc,ijc->ij", mean, mean), 0)
-    return np.concatenate([mean, np.sqrt(CONTRAST * v)[:, :, None]], axis=2)
+    return np.concatenate([mean, np.sqrt(CONTRAST * v / (f * f))[:, :, None]], axis=2)
 
 
 def _unlike(photo: np.ndarray, rows: np.ndarray, b: int, channels: bool = False) -> np.ndarray:
@@ -591,7 +595,7 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     e = lay.e
     inside = a[e:h - e, e:w - e]
     coarse = _coarse(inside, lay.f) if lay.f > 1 else None
-    contrast = _contrast(a)
+    contrast = _contrast(a) if lay.f == 1 else None
     used: list[tuple[int, int, int, int]] = []
     # The seam between the last and first rows (columns) is row m + top of the arm's strip;
     # the band is rows m .. m + b - 1.
