@@ -399,6 +399,9 @@ def photos(draw):
     rng = np.random.default_rng(draw(st.integers(0, 2**16)))
     shape = (h, w) if channels is None else (h, w, channels)
     base = rng.random(shape).astype(np.float32)
+    # brighter down the rows, so that it does not tile already (that would come back as it is)
+    base = (base + np.linspace(0, 1, h, dtype=np.float32).reshape((h,) + (1,) * (base.ndim - 1))
+            ) / 2
     exponent = draw(st.sampled_from([0, 0, 100, -100, 120, -140, 60, -60]))
     photo = base * np.float32(2.0) ** exponent if abs(exponent) < 127 else \
         (base.astype(np.float64) * 2.0 ** exponent).astype(np.float32)

@@ -5,8 +5,9 @@ import pytest
 from scipy.ndimage import gaussian_filter
 
 from texsynth import metrics
+from texsynth.blocks.joints import Joints
 
-from _images import ramp_photo, smooth_noise
+from _images import ramp_photo, running_bond, smooth_noise
 
 
 def stripes(shape, period=8.0, angle=0.3):
@@ -118,3 +119,24 @@ def test_quality_bundles_every_measure():
     assert q["copy_share"] > 0.6
     assert set(q) == {"seam_ratio", "subband_distance", "patch_distance", "copy_share",
                       "structure_distance"}
+
+
+def test_dead_ends_read_a_wall_with_joints_cut_mid_brick_higher_than_the_whole_one():
+    """Bricks pasted over pieces of the bed joints (a course's joint stopping mid-brick, as a
+    band cut across a wall leaves them): more dead ends per joint length than the whole wall,
+    whose every joint meets another."""
+    wall, joint = running_bond((192, 256), 0, course=16, brick=40, joint=3,
+                               tint=(0.9, 0.5, 0.4), shade=(0.5, 0.3), grain=0.1,
+                               mortar=(0.15, 0.15, 0.15), speckle=0.04)
+    broken = wall.copy()
+    rng = np.random.default_rng(1)
+    for course in rng.choice(np.arange(1, 11), 6, replace=False):
+        x = int(rng.integers(20, 220))
+        # a piece of the brick below laid over the joint and 4 rows either side
+        broken[16 * course - 4:16 * course + 7, x:x + 14] = wall[16 * course + 5, x:x + 14]
+    assert np.count_nonzero(broken != wall) < 0.03 * wall.size
+    joints = Joints.fit(wall, 1.5)
+    whole, cut = (metrics.dead_ends(w, joints, wrap=False) for w in (wall, broken))
+    assert whole < 1.0  # per 1000 px of joint: a stray end or two in 4000 px
+    assert cut > whole + 2.0  # 6 cuts, 12 ends
+    assert metrics.dead_end_ratio(wall, broken, 1.5) > 3

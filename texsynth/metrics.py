@@ -8,6 +8,9 @@
   whose own lines jump more or less according to where they fall in its rhythm: the jump across
   the wrap over the jumps across the image's own lines that sit where it sits (joint with
   joint, through bricks with through bricks), each direction on its own.
+- ``dead_end_ratio``: are the elements of a man-made surface (bricks, setts) whole? The joint
+  network's dead ends (a joint that stops inside an element) per 1000 px of joint, output over
+  photo, the joints read by one rule fixed on the photo (``texsynth.blocks.joints``).
 - ``gradient_ratio``: is it as sharp as the photo? Mean gradient magnitude of the output over
   the photo's; under 0.9 the output is smoother (blurred), over 1.1 it is noisier.
 - ``band_sharpness``: for a photo made tileable, the mean gradient in the middle of the band
@@ -37,6 +40,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import gaussian_filter
 
+from .blocks.joints import Joints
 from .blocks.periodic import periodic_component
 from .blocks.pyramid import SteerablePyramid, max_scales
 
@@ -46,6 +50,8 @@ __all__ = [
     "course_steps",
     "seam_ratio",
     "seam_ratio_in_phase",
+    "dead_ends",
+    "dead_end_ratio",
     "mean_gradient",
     "gradient_ratio",
     "band_sharpness",
@@ -153,6 +159,52 @@ def seam_ratio_in_phase(image: np.ndarray) -> float:
     if expected == 0:
         return 1.0 if seam == 0 else float("inf")
     return float(seam / expected)
+
+
+def dead_ends(image: np.ndarray, joints: Joints, wrap: bool = True) -> float:
+    """Dead ends of ``image``'s joint network per 1000 pixels of joint (both counted on the
+    skeleton at the working scale of ``joints``, ``texsynth.blocks.joints.Joints``), read on
+    the torus when ``wrap`` (a tiling output; a photo mirrored at its edges otherwise).
+
+    Examples
+    --------
+    >>> from texsynth.blocks.joints import Joints
+    >>> i, j = np.mgrid[:128, :192]
+    >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
+    >>> joints = Joints.fit(wall, sigma=1.5)
+    >>> dead_ends(wall, joints)  # every joint meets another
+    0.0
+    >>> cut = wall.copy(); cut[46:53, 104:110] = 0.7  # a bed joint cut through
+    >>> bool(dead_ends(cut, joints) > 0)
+    True
+    """
+    skeleton, end = joints.skeleton(image, wrap)
+    length = int(skeleton.sum())
+    return 1000.0 * float(end.sum()) / length if length else 0.0
+
+
+def dead_end_ratio(photo: np.ndarray, output: np.ndarray, sigma: float,
+                   joints: Joints | None = None) -> float:
+    """The joint network's dead ends per 1000 px of joint (:func:`dead_ends`), ``output`` (read
+    on the torus) over ``photo`` (mirrored at its edges), the joints of half width ``sigma``
+    read by the rule ``Joints.fit`` fixes on the photo (or the ``joints`` given): 1 when the
+    output's elements are as whole as the photo's, above when joints stop inside elements.
+
+    Examples
+    --------
+    >>> i, j = np.mgrid[:128, :192]
+    >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
+    >>> wall += np.random.default_rng(0).normal(0, 0.02, wall.shape)
+    >>> cut = wall.copy(); cut[:, 96:] = np.roll(wall[:, 96:], 8, axis=0)  # courses out of line
+    >>> bool(dead_end_ratio(wall, cut, 1.5) > 1.5 * dead_end_ratio(wall, wall, 1.5))
+    True
+    """
+    joints = Joints.fit(photo, sigma) if joints is None else joints
+    reference = dead_ends(photo, joints, wrap=False)
+    found = dead_ends(output, joints, wrap=True)
+    if reference == 0:
+        return 1.0 if found == 0 else float("inf")
+    return found / reference
 
 
 def mean_gradient(image: np.ndarray, wrap: bool = True) -> float:

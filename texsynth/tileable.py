@@ -52,6 +52,13 @@ Deviations, one line each:
   edges): edge defects inside the band (a ledge, a vignette) are replaced, never copied;
 - a source window more than half covered by one already used is not chosen again (no visible
   repeats along the band);
+- the overlap is matched on the colours and on the local contrast (``_contrast``: the root of
+  ``CONTRAST`` x the variance within ``CONTRAST_BOX`` pixels; on the search's grid, within a
+  block, ``_coarse``; the refinement of a grid's candidates on the colours alone): by SSD
+  alone a flat patch fits any textured overlap best (two windows of gravel differ by twice
+  its variance, ground and gravel by once), and a mixture's band (smooth ground, rough
+  gravel) was quilted from the ground, a soft cross (seam ratio 0.27-0.69 over 6 seeds of a
+  256 crop); with ``CONTRAST`` above 1 the gravel's own patches fit it best;
 - rows of the band whose mean colour (across the arm) is like none of the rows farther than
   ``band`` from the photo's edges are not matched (Efros & Freeman weigh the whole overlap
   alike): on the brick wall photo a dark ledge along the bottom edge drew patches that
@@ -82,14 +89,16 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
-from . import budget, validation
+from . import budget, metrics, validation
 from .blocks import poisson
+from .blocks.joints import luma
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
 
 __all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict",
-           "check"]
+           "check", "tiles"]
 
 #: Narrowest band accepted, and the default band's least width (pixels).
 MIN_BAND, DEFAULT_MIN = 8, 16
@@ -108,12 +117,31 @@ COARSE = 32
 CANDIDATES = 4
 #: Efros & Freeman's error tolerance: candidates within (1 + TOLERANCE) x the best SSD.
 TOLERANCE = 0.1
+#: The scale (pixels) of the local contrast matched beside the colours, and its weight: its
+#: standard deviation over the photo's (the colours' together).
+CONTRAST_BOX, CONTRAST = 5, 1.5
 #: A row is unlike the photo when, in some channel, its mean colour is farther than this many
 #: robust standard deviations (1.4826 x the median absolute deviation of the inner rows'
 #: means) from every inner row's.
 UNLIKE = 1.5
 #: Fewest inner rows to judge by; with fewer, every row is matched.
 MIN_INNER = 8
+#: A photo already tiles when its wrap reads as its own lines: the seam ratio in phase within
+#: 1 +- TILES (``metrics.seam_ratio_in_phase``; a photo's interior crosses read 0.85-1.2).
+TILES = 0.1
+
+
+def tiles(photo: np.ndarray) -> bool:
+    """Does ``photo`` (H, W[, C]) tile as it is? Its wrap as seamless as its own lines: the
+    seam ratio in phase (luminance) within ``1 +- TILES``.
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(0).random((64, 64))  # white noise tiles; with a ramp, not
+    >>> tiles(x), tiles(x + np.linspace(0, 1, 64)[:, None])
+    (True, False)
+    """
+    return abs(metrics.seam_ratio_in_phase(luma(photo)) - 1.0) <= TILES
 
 
 def default_band(shape) -> int:
@@ -189,10 +217,16 @@ class _Source:
     """The photo (or its transpose, for the vertical arm) as the patches' source: the search
     for the patch that fits a template, and a patch's pixels and photo positions."""
 
-    def __init__(self, image: np.ndarray, coarse: np.ndarray | None, f: int, e: int,
-                 swap: bool):
+    def __init__(self, image: np.ndarray, contrast: np.ndarray | None,
+                 coarse: np.ndarray | None, f: int, e: int, swap: bool):
         self.image, self.f, self.e, self.swap = image, f, e, swap
-        self.search = Search(coarse if f > 1 else image)
+        # Searched at full resolution (f == 1): the photo's contrast (:func:`_contrast`), as
+        # the photo is (templates read it at their pixels' positions), and as this source is.
+        self.contrast, self.own = contrast, None
+        if f == 1:
+            ours = contrast.T if swap else contrast
+            self.own = ours[e:ours.shape[0] - e, e:ours.shape[1] - e, None]
+        self.search = Search(coarse if f > 1 else np.concatenate([image, self.own], axis=2))
 
     def _excluded(self, shape, ph, pw, used) -> np.ndarray:
         """Placements (on the search's grid) whose window is more than half covered by a used
@@ -207,17 +241,21 @@ class _Source:
             out |= (np.abs(y - uy) * 2 < min(ph, uh)) & (np.abs(x - ux) * 2 < min(pw, uw))
         return out
 
-    def choose(self, template, mask, rng, used) -> tuple[int, int]:
-        """The patch origin, in this source's coordinates, for ``template`` weighted by
-        ``mask``: the ``CANDIDATES`` best placements on the search's grid (apart from each
-        other, none more than half covered by a ``used`` window) refined at full resolution,
-        then one of those within the tolerance of the best, at random."""
+    def choose(self, template, at, mask, rng, used) -> tuple[int, int]:
+        """The patch origin, in this source's coordinates, for ``template`` (its pixels from
+        the photo positions ``at``) weighted by ``mask``: the ``CANDIDATES`` best placements
+        on the search's grid (apart from each other, none more than half covered by a
+        ``used`` window) refined at full resolution, then one of those within the tolerance
+        of the best, at random. Matched with the colours: the local contrast (on the search's
+        grid, ``_coarse``; at full resolution, ``_contrast``, where the search is there)."""
         ph, pw = mask.shape
         f = self.f
         if f > 1:
-            ssd = self.search.ssd(block_means(template, f), block_means(mask[:, :, None], f)[
+            ssd = self.search.ssd(_coarse(template, f), block_means(mask[:, :, None], f)[
                 :, :, 0])
         else:
+            template = np.concatenate(
+                [template, self.contrast[at[:, :, 0], at[:, :, 1], None]], axis=2)
             ssd = self.search.ssd(template, mask)
         excluded = self._excluded(ssd.shape, ph, pw, used)
         if excluded.all():
@@ -234,7 +272,9 @@ class _Source:
             # The same window size for every candidate: the template's spectra are reused.
             y0 = max(0, min(y * f - f, h - ph - 2 * f))
             x0 = max(0, min(x * f - f, w - pw - 2 * f))
-            fine = Search(self.image[y0:y0 + ph + 2 * f, x0:x0 + pw + 2 * f])
+            rows, cols = slice(y0, y0 + ph + 2 * f), slice(x0, x0 + pw + 2 * f)
+            fine = Search(self.image[rows, cols] if self.own is None else
+                          np.concatenate([self.image[rows, cols], self.own[rows, cols]], axis=2))
             prepared = prepared or fine.prepare(template, mask)
             errors = fine.ssd(template, mask, prepared)
             dy, dx = np.unravel_index(errors.argmin(), errors.shape)
@@ -255,6 +295,27 @@ class _Source:
         """The patch's window in photo coordinates (row, col, rows, cols)."""
         y, x = y + self.e, x + self.e
         return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
+
+
+def _contrast(image: np.ndarray) -> np.ndarray:
+    """The local contrast of ``image`` (h, w, C), float32 (h, w): the root of ``CONTRAST`` x
+    the variance within ``CONTRAST_BOX`` x ``CONTRAST_BOX`` pixels, its channels' summed."""
+    a = np.asarray(image, np.float32)
+    size = (CONTRAST_BOX, CONTRAST_BOX)
+    v = ndimage.uniform_filter(np.einsum("ijc,ijc->ij", a, a), size, mode="nearest")
+    for k in range(a.shape[2]):
+        v -= ndimage.uniform_filter(a[:, :, k], size, mode="nearest") ** 2
+    return np.sqrt(np.float32(CONTRAST) * np.maximum(v, 0))
+
+
+def _coarse(image: np.ndarray, f: int) -> np.ndarray:
+    """``image``'s ``f`` x ``f`` block means and their contrast as one more channel: the root
+    of ``CONTRAST`` x the variance within each block, its channels' summed, over ``f^2`` (the
+    variance of a block mean of ``f^2`` independent pixels), float64."""
+    mean = block_means(image, f)
+    square = block_means(np.einsum("ijc,ijc->ij", image, image)[:, :, None], f)[:, :, 0]
+    v = np.maximum(square - np.einsum("ijc,ijc->ij", mean, mean), 0)
+    return np.concatenate([mean, np.sqrt(CONTRAST * v / (f * f))[:, :, None]], axis=2)
 
 
 def _unlike(photo: np.ndarray, rows: np.ndarray, b: int, channels: bool = False) -> np.ndarray:
@@ -297,7 +358,7 @@ def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, repo
             mask[:, :ov] = 1
         if after:
             mask[:, -ov:] = 1
-        y, x = source.choose(template, mask, rng, used)
+        y, x = source.choose(template, at[:, cols], mask, rng, used)
         used.append(source.window(y, x, ph, pw))
         patch, where = source.patch(y, x, ph, pw)
         # Efros & Freeman 2.1: the cuts through the overlaps with the neighbours.
@@ -401,7 +462,8 @@ SWEEPS = 4
 
 
 def _cost(lay: _Layout, c: int) -> float:
-    """Seconds on the reference machine: the searches' FFTs (:func:`_work`), fitted by
+    """Seconds on the reference machine: the searches' FFTs (:func:`_work`, per channel, the
+    contrast's and two more), fitted by
     non-negative least squares on quiet runs of 1024^2 photos with bands of 48, 128 and 256,
     2048^2 and 4000 x 3000 with 150 and 375 (within 0.82-1.27 of each); the cuts' dynamic
     programmes and the photo-sized copies took no measurable share beside them. The
@@ -411,7 +473,7 @@ def _cost(lay: _Layout, c: int) -> float:
     coefficient within 0.47-1.18 of each, 0.82-1.18 but for one run)."""
     coarse, refine = _work(lay)
     cross = SWEEPS * (lay.b + 2) * (lay.h + lay.w) * c
-    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 2) + 1.6e-7 * cross
+    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 3) + 1.6e-7 * cross
 
 
 def _memory(lay: _Layout, c: int) -> float:
@@ -423,10 +485,10 @@ def _memory(lay: _Layout, c: int) -> float:
     residual and spectrum, the guidance; 7.1-7.3 measured at 1024^2-4000 x 3000) after it.
     A photo given as bytes adds its float32 copy."""
     h, w, side, f, e = lay.h, lay.w, lay.side, lay.f, lay.e
-    photo = h * w * (4 * c + 8)
+    photo = h * w * (4 * c + 8 + 12)  # and the contrast map (float32, two temporaries)
     arm = 5 * side * max(h, w) * (4 * c + 8)
     correction = 7.5 * (lay.b + 2) * max(h, w) * c * 8
-    search = (h // f) * w * c * 8 + ((h - 2 * e) // f) * ((w - 2 * e) // f) * (c + 1) * 16 * 2
+    search = (h // f) * w * c * 8 + ((h - 2 * e) // f) * ((w - 2 * e) // f) * (c + 2) * 16 * 2
     return float(photo + search + max(arm, correction))
 
 
@@ -451,7 +513,8 @@ def make_tileable(photo, *, band: int | None = None, seed: int = 0,
     -------
     numpy.ndarray
         Every pixel farther than ``band / 2`` from the photo's edges unchanged; the band made
-        of photo pieces, their level corrected to meet the kept photo without a step.
+        of photo pieces, their level corrected to meet the kept photo without a step. A photo
+        that already tiles (:func:`tiles`) comes back as it is.
 
     References
     ----------
@@ -520,6 +583,9 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     scale = validation.magnitude_scale(a)
     given, a = a, a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
     report = Progress(progress)
+    if tiles(a):  # the photo already tiles: returned as it is, every pixel its own position
+        report(1.0, "Make tileable: the photo already tiles")
+        return given.copy(), np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
     report(0.0, "Make tileable: starting")
 
     rng = np.random.default_rng(seed)
@@ -528,20 +594,21 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     positions = np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
     e = lay.e
     inside = a[e:h - e, e:w - e]
-    coarse = block_means(inside, lay.f) if lay.f > 1 else None
+    coarse = _coarse(inside, lay.f) if lay.f > 1 else None
+    contrast = _contrast(a) if lay.f == 1 else None
     used: list[tuple[int, int, int, int]] = []
     # The seam between the last and first rows (columns) is row m + top of the arm's strip;
     # the band is rows m .. m + b - 1.
     band_rows = slice(lay.m, lay.m + band)
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
-    across = _Source(inside, coarse, lay.f, e, swap=False)
+    across = _Source(inside, contrast, coarse, lay.f, e, swap=False)
     strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
                      report.span(0.02, 0.45), used)
     out[rows[band_rows]] = strip[band_rows]
     positions[rows[band_rows]] = at[band_rows]
 
     cols = (np.arange(lay.side) - lay.top - lay.m) % w
-    down = _Source(inside.transpose(1, 0, 2),
+    down = _Source(inside.transpose(1, 0, 2), contrast,
                    None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
     strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
                      _unlike(a.transpose(1, 0, 2), cols, band), down, lay, rng,
@@ -557,8 +624,9 @@ def follow(positions, image, *, band: int | None = None) -> np.ndarray:
     """Another map of the photo's material (normal, roughness, height... of the photo's size)
     made to tile the way :func:`make_tileable_positions` made the photo: its pixels moved by
     ``positions``, then the band corrected from the map's own gradients (Pérez et al. 2003, as
-    the photo's). ``band`` must be the one the photo was made with (default
-    :func:`default_band`). Given the photo itself, it gives back the photo's result bit for bit.
+    the photo's); identity positions (the photo already tiled) leave the map as it is.
+    ``band`` must be the one the photo was made with (default :func:`default_band`). Given the
+    photo itself, it gives back the photo's result bit for bit.
 
     Returns
     -------
@@ -589,6 +657,8 @@ def follow(positions, image, *, band: int | None = None) -> np.ndarray:
     if not MIN_BAND <= band <= _widest(given.shape):
         raise ValueError(f"band must be between {MIN_BAND} and {_widest(given.shape)} pixels, "
                          f"the band the photo was made with, got {band}")
+    if (p == np.moveaxis(np.indices(p.shape[:2]), 0, 2)).all():  # a photo that already tiled
+        return given.copy()
     scale = validation.magnitude_scale(given)
     a = given if scale == 1.0 else (given.astype(np.float64) * scale).astype(np.float32)
     return _correct(a[p[:, :, 0], p[:, :, 1]], given, a, scale, p, band)
