@@ -14,7 +14,7 @@ import numpy as np
 
 from ..validation import image
 
-__all__ = ["read_png", "write_png", "png_size", "SIGNATURE", "UnsupportedPNG"]
+__all__ = ["read_png", "write_png", "png_size", "quantize", "SIGNATURE", "UnsupportedPNG"]
 
 SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # PNG colour type -> channels in the file.
@@ -27,12 +27,8 @@ class UnsupportedPNG(ValueError):
 
 def write_png(path, array, bits: int = 8) -> None:
     """Write values in [0, 1] (clipped) as an 8- or 16-bit PNG: grey, RGB or RGBA."""
-    if bits not in (8, 16):
-        raise ValueError(f"PNG bit depth must be 8 or 16, got {bits}")
-    a = image(array, what="image", min_side=1, finite=False)
-    h, w, c = a.shape
-    top = (1 << bits) - 1
-    q = np.rint(np.clip(np.nan_to_num(a), 0.0, 1.0) * top).astype(">u2" if bits == 16 else "u1")
+    q = quantize(array, bits, ">u2", "PNG")
+    h, w, c = q.shape
     rows = q.reshape(h, w * c).view(np.uint8)
     raw = np.hstack([np.zeros((h, 1), np.uint8), rows])  # filter type 0 (None) on every row
     colour_type = {1: 0, 3: 2, 4: 6}[c]
@@ -42,6 +38,23 @@ def write_png(path, array, bits: int = 8) -> None:
         f.write(_png_chunk(b"IHDR", header))
         f.write(_png_chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)))
         f.write(_png_chunk(b"IEND", b""))
+
+
+def quantize(array, bits: int, wide: str, what: str) -> np.ndarray:
+    """Values in [0, 1] (clipped; NaN as 0) as whole numbers of ``bits`` (8 or 16) bits: uint8,
+    or the 16-bit dtype ``wide`` (the file's byte order), (H, W, C); ``what`` names the format
+    in the error for another depth.
+
+    Examples
+    --------
+    >>> quantize(np.array([[0.0, 0.5, 2.0]]), 8, ">u2", "PNG").ravel().tolist()
+    [0, 128, 255]
+    """
+    if bits not in (8, 16):
+        raise ValueError(f"{what} bit depth must be 8 or 16, got {bits}")
+    a = image(array, what="image", min_side=1, finite=False)
+    top = (1 << bits) - 1
+    return np.rint(np.clip(np.nan_to_num(a), 0.0, 1.0) * top).astype(wide if bits == 16 else "u1")
 
 
 def _png_chunk(kind: bytes, data: bytes) -> bytes:

@@ -13,7 +13,7 @@ import zlib
 
 import numpy as np
 
-from ..validation import image
+from .png import quantize
 
 __all__ = ["read_tiff", "write_tiff", "tiff_size", "tiff_bits"]
 
@@ -28,12 +28,8 @@ def write_tiff(path, array, bits: int = 8) -> None:
     """Write values in [0, 1] (clipped) as an 8- or 16-bit TIFF, one Deflate strip with the
     horizontal predictor (each sample stored as its difference from its left neighbour): grey,
     RGB or RGBA (unassociated alpha)."""
-    if bits not in (8, 16):
-        raise ValueError(f"TIFF bit depth must be 8 or 16, got {bits}")
-    a = image(array, what="image", min_side=1, finite=False)
-    h, w, c = a.shape
-    top = (1 << bits) - 1
-    q = np.rint(np.clip(np.nan_to_num(a), 0.0, 1.0) * top).astype("<u2" if bits == 16 else "u1")
+    q = quantize(array, bits, "<u2", "TIFF")
+    h, w, c = q.shape
     q[:, 1:] -= q[:, :-1].copy()  # modulo 2^bits, as the predictor is defined
     strip = zlib.compress(q.tobytes(), 6)
     entries = [(_WIDTH, 4, [w]), (_HEIGHT, 4, [h]), (_BITS, 3, [bits] * c),
