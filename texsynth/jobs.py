@@ -148,13 +148,12 @@ class Job:
             fields.update(band=self.band)
         return fields
 
-    def at(self, option: str, column: str | None = None) -> str:
-        """How an error names a value: ``--size`` on the command line, ``lib.csv:3: size``."""
-        if self.origin:
-            return f"{self.origin}: {column or option.replace('-', '_')}"
-        return f"--{option}"
+    def at(self, option: str) -> str:
+        """How an error names a value: ``--maps`` on the command line, ``lib.csv:3: maps``."""
+        return f"{self.origin}: {option.replace('-', '_')}" if self.origin else f"--{option}"
 
     def all_outputs(self) -> tuple[str, ...]:
+        """Every file the job writes: ``outputs``, then the preview."""
         return (*self.outputs, *([self.preview] if self.preview else []))
 
 
