@@ -8,12 +8,15 @@
     texsynth methods [--json]
 
 Every method parameter is an option, generated from :func:`texsynth.methods` (as the Blender
-panel is). The output's format follows its suffix: ``.png`` (8 or 16 bits, sRGB-encoded colour)
-or ``.exr`` (float32, linear colour); colour is converted when the input's encoding differs,
-unless ``--data`` says the values are data (normals, roughness). Other maps (``--maps``) always
-keep their values. Progress goes to stderr: a bar with the time left on a terminal, plain lines
-when piped; an error is one line naming the file or option, with the exit codes of
-:data:`EXIT_CODES`.
+panel is). Photos are read upright (EXIF orientation); ``--in-size`` resamples them first. The
+output's format follows its suffix: ``.png`` and ``.tif`` (8 or 16 bits), ``.jpg`` (8 bits) with
+sRGB-encoded colour, or ``.exr`` (float32, linear colour); colour is converted when the input's
+encoding differs, unless ``--data`` says the values are data (normals, roughness). Other maps
+(``--maps``) always keep their values. Every job goes through :mod:`texsynth.jobs`: the plan
+is checked before any file is read and every input and value before any work, so nothing is
+lost. The predicted time and memory, then progress, go to stderr: a bar with the time left on
+a terminal, plain lines when piped; an error is one line naming the file or option, with the
+exit codes of :data:`EXIT_CODES`.
 """
 
 from __future__ import annotations
