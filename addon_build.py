@@ -390,8 +390,8 @@ def pip_check() -> None:
         out = tmp / "o.png"
         _run(command, "--quiet", "synthesize", SAMPLE, "-o", out, "--size", "64", "--method",
              "random_phase", cwd=tmp)
-        _run(python, "-c", "import sys; from texsynth.io import read_image; "
-             "shape = read_image(sys.argv[1]).shape; "
+        _run(python, "-c", "import sys; from texsynth.io import read_photo; "
+             "shape = read_photo(sys.argv[1]).shape; "
              "sys.exit(None if shape[:2] == (64, 64) else f'{sys.argv[1]} is {shape}')", out,
              cwd=tmp)
         print("pip-check: the pip package installs and its command runs", flush=True)
