@@ -126,6 +126,7 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
             height, width = layout.shape[:2]
         target = self.target(image.name, METHOD)
         params = properties.param_values(self, method)
+        width, height = texsynth.validation.size(width, height)  # refused before the forecast
         predicted, _ = texsynth.budget.forecast(METHOD, exemplar.shape, width, height, params)
         job = Job(composite.synthesize, exemplar, width, height, labels=labels,
                   output_labels=layout, seed=self.seed, predicted=predicted, **params)

@@ -45,6 +45,8 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
         target = self.target(image.name, method.name)
         exemplar, encoding = pixels.read_exemplar(image)
         params = properties.param_values(self, method)
+        texsynth.api.check(exemplar.shape, self.width, self.height, method=method.name,
+                           seed=self.seed, **params)  # refused here, before the forecast
         predicted, _ = texsynth.budget.forecast(method.name, exemplar.shape, self.width,
                                                 self.height, params)
         job = Job(texsynth.synthesize, exemplar, self.width, self.height, method=method.name,

@@ -57,7 +57,9 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
         maps = [(node_name, values, encoding, self.target(image.name, SUFFIX))
                 for node_name, image, values, encoding
                 in source.read_maps(context, src, followers=self.all_maps)]
-        predicted, _ = texsynth.tileable.predict(maps[0][1].shape, self.band or None)
+        band, _ = texsynth.tileable.check(maps[0][1].shape, band=self.band or None,
+                                          seed=self.seed)  # refused here, before the forecast
+        predicted, _ = texsynth.tileable.predict(maps[0][1].shape, band)
         job = Job(_tile_all, maps[0][1], [m[1] for m in maps[1:]], band=self.band or None,
                   seed=self.seed, predicted=predicted)
         return job, (src, maps)
