@@ -69,3 +69,20 @@ def test_rectify_takes_the_rectangle_s_plane():
     image = np.random.default_rng(0).random(SHAPE).astype(np.float32)
     plane = from_rectangle(corners(30.0, 90.0, FOCAL), SHAPE, focal_px=FOCAL)
     assert rectify(image, plane).ndim == 3
+
+
+def test_the_command_takes_the_corners(tmp_path, capsys):
+    """texsynth estimate --corners: the rectangle's plane as JSON; a wrong count is an error."""
+    import json
+
+    from texsynth import cli
+    from texsynth.io import write_image
+
+    path = tmp_path / "photo.png"
+    write_image(path, np.random.default_rng(0).random((*SHAPE, 3)).astype(np.float32))
+    text = ",".join(f"{v:g}" for v in corners(40.0, 30.0, FOCAL).ravel())
+    assert cli.main(["-q", "estimate", str(path), "--corners", text]) == 0
+    plane = json.loads(capsys.readouterr().out)
+    assert plane["method"] == "rectangle" and abs(plane["focal_px"] / FOCAL - 1.0) < 0.05
+    assert cli.main(["-q", "estimate", str(path), "--corners", "1,2,3"]) != 0
+    assert "--corners must be 8 numbers" in capsys.readouterr().err
