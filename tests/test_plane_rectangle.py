@@ -86,3 +86,14 @@ def test_the_command_takes_the_corners(tmp_path, capsys):
     assert plane["method"] == "rectangle" and abs(plane["focal_px"] / FOCAL - 1.0) < 0.05
     assert cli.main(["-q", "estimate", str(path), "--corners", "1,2,3"]) != 0
     assert "--corners must be 8 numbers" in capsys.readouterr().err
+
+
+def test_the_command_warns_of_a_guess(tmp_path, capsys):
+    """White noise shows no plane: the estimate is a guess, and the command says so."""
+    from texsynth import cli
+    from texsynth.io import write_image
+
+    path = tmp_path / "noise.png"
+    write_image(path, np.random.default_rng(0).random((96, 96, 3)).astype(np.float32))
+    assert cli.main(["-q", "estimate", str(path)]) == 0
+    assert "the plane is a guess" in capsys.readouterr().err

@@ -45,7 +45,14 @@ from .jobs import (
     read_input,
     write_outputs,
 )
-from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, from_rectangle, rectify
+from .plane import (
+    ESTIMATE_METHODS,
+    estimate_plane,
+    focal_px_from_file,
+    from_rectangle,
+    rectify,
+    verdict,
+)
 from .progress import Cancelled
 from .registry import get_method, methods
 from .validation import BudgetError
@@ -273,6 +280,10 @@ def _estimate(args, photo):
                                focal)
     if origin is None:
         origin = "estimated" if plane.focal_estimated else "none (orthographic)"
+    judged = verdict(plane)
+    if judged.guess:  # said even with -q: a guess applied as it is warps the photo
+        print(f"texsynth: warning: the plane is a guess: {'; '.join(judged.reasons)}; "
+              "--corners takes it from a rectangle on it", file=sys.stderr)
     return plane, origin
 
 
