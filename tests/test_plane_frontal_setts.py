@@ -57,3 +57,17 @@ def test_equal_courses_still_give_a_sharp_horizon():
     v, cov = spaced_horizon(family, horizon_through(family, SIDE), SIDE)
     assert abs(v[1] - v_y) < 0.1 * v_y
     assert 2.0 * math.sqrt(np.trace(cov)) < 0.5 * v_y
+
+
+def test_a_horizon_interval_that_reaches_the_frontal_view_is_a_slant_interval_to_0():
+    """The setts' spacing, focal length known: a horizon at slant 56 deg whose two sigmas reach
+    the frontal view. Linearised at the fit its slant sigma read 13 deg (confidence 0.3); the
+    interval's ends, mapped exactly, give half the slant."""
+    from texsynth.plane.fit import _spacing_covariance
+    from texsynth.plane.geometry import angles_from_gradient
+
+    f = 231.0
+    v = np.array([0.0065, 0.0])
+    cov = _spacing_covariance(f * v, (v, np.diag([(0.0065 / 2) ** 2, 0.0])), f)
+    slant = angles_from_gradient(f * v)[0]
+    assert math.sqrt(cov[0, 0]) >= slant / 2 - 1e-6
