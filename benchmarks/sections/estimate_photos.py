@@ -292,6 +292,12 @@ def run(ctx) -> str:
         lines.append(f"| {family} | {base:.1f} | " + " | ".join(cells)
                      + f" | {refused} of {len(views) * len(QUALITIES)} |")
 
+    sure = [s for family in ("real photos", PHONE) for v, s in scores[family, "exif"]
+            if v.slant >= 20 and s["confidence"] >= 0.9]
+    lines += ["", f"**Confidently wrong** on the rendered views of real photos (perspective, slant "
+              f">= 20 deg, focal length from EXIF, both resolutions; goal: at most 5 % of those "
+              f"at confidence >= 0.9 off by more than 10 deg): {sum(s['error'] > 10 for s in sure)}"
+              f" of {len(sure)}."]
     lines += ["", f"**Coverage**: views whose normal error is within {COVER_80:.2f} x the stated "
               "normal sigma (the 80 % radius; goal >= 80 % on stochastic textures), all slants:",
               "", "| family | " + " | ".join(("EXIF", "unknown", "orthographic")) + " |",
