@@ -6,6 +6,11 @@ align the camera, rectify. The work is the core's ``texsynth.plane``.
   tilt (radians), focal length (the scene camera's when asked, else the photo file's EXIF,
   else estimated; ``focal_source`` says which) and confidence in ``scene.texsynth.plane``
   (``properties.TEXSYNTH_PG_plane``).
+* ``texsynth.plane_from_rectangle`` stores the plane of a rectangle the user marks on it instead
+  (``corners``: x1, y1, ..., x4, y4 in the photo's pixels, x right, y down; headless too), with
+  the focal length from the scene camera or the EXIF as above, else from the rectangle's two
+  vanishing points (``texsynth.plane.from_rectangle``); ``texsynth.place_corners`` takes the
+  four corners as clicks in the Image Editor and runs it.
 * ``texsynth.align_camera`` poses the scene camera (made if missing) so that the active object's
   local XY plane (world XY at the origin when nothing is active) is seen at that slant and tilt.
 * ``texsynth.rectify`` writes the frontal view of the photo as a new image, ready for
@@ -26,6 +31,8 @@ import math
 import os
 
 import bpy
+import gpu
+from gpu_extras.batch import batch_for_shader
 from mathutils import Matrix
 
 from ..texsynth import plane as estimate
@@ -206,47 +213,170 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
             height, width = photo.shape[:2]
             focal, focal_source = None, "NONE"
             if settings.method == "AUTO":
-                if settings.use_camera_focal:
-                    focal, focal_source = camera_focal_px(context.scene, width, height), "CAMERA"
-                elif (focal := file_focal_px(image)) is not None:
-                    focal_source = "EXIF"
+                focal, focal_source = known_focal(context.scene, image, width, height)
             result = estimate.estimate_plane(photo, focal_px=focal,
                                              method=settings.method.lower())
-            if result.focal_estimated:
-                focal_source = "ESTIMATED"
         except ValueError as error:
             return _fail(self, error)
-        settings.has_estimate = True
-        settings.image = image.name
-        settings.image_width, settings.image_height = width, height
-        settings.slant = math.radians(result.slant)
-        settings.tilt = math.radians(result.tilt)
-        settings.focal_px = result.focal_px or 0.0
-        settings.focal_estimated = result.focal_estimated
-        settings.focal_source = focal_source
-        settings.tilt_ambiguous = result.tilt_ambiguous_180
-        settings.confidence = result.confidence
-        settings.uncertainty = math.radians(min(result.normal_uncertainty, 90.0))
-        settings.slant_uncertainty = math.radians(min(result.slant_uncertainty, 90.0))
-        settings.tilt_uncertainty = math.radians(min(result.tilt_uncertainty, 180.0))
-        settings.anisotropy = result.anisotropy
-        settings.line_families = result.line_families
-        settings.lines_found = result.lines_found
-        settings.lens_prior = result.lens_prior
-        where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
-        lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \
-            if result.focal_px else ", orthographic"
-        either = " (or +180)" if result.tilt_ambiguous_180 else ""
-        verdict = estimate.verdict(result)
         turn = file_orientation(image)
-        self.report({"WARNING"} if verdict.guess else {"INFO"},
-                    f"'{image.name}': slant {result.slant:.1f}°, tilt {result.tilt:.1f}°{either}"
-                    f"{lens}, confidence {result.confidence:.2f}"
-                    + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else "")
-                    + (f". The file's EXIF turns it (Orientation {turn}) but Blender shows it "
-                       "as stored: the tilt is of the image as shown here"
-                       if turn != 1 and not image.is_dirty else ""))  # dirty: maybe turned
+        store(self, settings, image.name, result, focal_source,
+              f". The file's EXIF turns it (Orientation {turn}) but Blender shows it as stored: "
+              "the tilt is of the image as shown here"
+              if turn != 1 and not image.is_dirty else "")  # dirty: maybe turned already
         return {"FINISHED"}
+
+
+def known_focal(scene, image, width: int, height: int) -> tuple[float | None, str]:
+    """The focal length in pixels the photo is known to have and where from: the scene
+    camera's when the panel says so, else the file's EXIF, else (None, "NONE")."""
+    settings = scene.texsynth.plane
+    if settings.use_camera_focal:
+        return camera_focal_px(scene, width, height), "CAMERA"
+    if (focal := file_focal_px(image)) is not None:
+        return focal, "EXIF"
+    return None, "NONE"
+
+
+def store(operator, settings, name: str, result, focal_source: str, note: str = "") -> None:
+    """Keep a plane (``texsynth.plane.PlaneEstimate``) of the image ``name`` as the scene's
+    estimate, for Align Camera and Rectify, and report it (``note`` ends the report)."""
+    if result.focal_estimated:
+        focal_source = "ESTIMATED"
+    settings.has_estimate = True
+    settings.image = name
+    settings.image_width, settings.image_height = result.image_size
+    settings.slant = math.radians(result.slant)
+    settings.tilt = math.radians(result.tilt)
+    settings.focal_px = result.focal_px or 0.0
+    settings.focal_estimated = result.focal_estimated
+    settings.focal_source = focal_source
+    settings.tilt_ambiguous = result.tilt_ambiguous_180
+    settings.confidence = result.confidence
+    settings.uncertainty = math.radians(min(result.normal_uncertainty, 90.0))
+    settings.slant_uncertainty = math.radians(min(result.slant_uncertainty, 90.0))
+    settings.tilt_uncertainty = math.radians(min(result.tilt_uncertainty, 180.0))
+    settings.anisotropy = result.anisotropy
+    settings.line_families = result.line_families
+    settings.lines_found = result.lines_found
+    settings.lens_prior = result.lens_prior
+    settings.from_rectangle = result.method == "rectangle"
+    where = {"EXIF": " (EXIF)", "CAMERA": " (scene camera)", "ESTIMATED": " (estimated)"}
+    lens = f", focal {result.focal_px:.0f} px{where.get(focal_source, '')}" \
+        if result.focal_px else ", orthographic"
+    either = " (or +180)" if result.tilt_ambiguous_180 else ""
+    verdict = estimate.verdict(result)
+    operator.report({"WARNING"} if verdict.guess else {"INFO"},
+                    f"'{name}': slant {result.slant:.1f}°, tilt {result.tilt:.1f}°{either}"
+                    f"{lens}, confidence {result.confidence:.2f}"
+                    + (" (from the rectangle)" if result.method == "rectangle" else "")
+                    + (f". {verdict.summary}" if verdict.guess or verdict.lens_prior else "")
+                    + note)
+
+
+class TEXSYNTH_OT_plane_from_rectangle(bpy.types.Operator):
+    """The plane from a rectangle on it: its four corners, placed in order around it"""
+
+    bl_idname = "texsynth.plane_from_rectangle"
+    bl_label = "Plane from Rectangle"
+    bl_options = {"REGISTER", "UNDO"}
+
+    image: bpy.props.StringProperty(
+        name="Image", options={"SKIP_SAVE"},
+        description="Name of the photo; empty: the Image Editor's image, the panel's photo or "
+                    "the active Image Texture node's image")
+    corners: bpy.props.FloatVectorProperty(
+        name="Corners", size=8, options={"SKIP_SAVE"},
+        description="x1, y1, ..., x4, y4: the rectangle's corners in order around it, in "
+                    "pixels of the photo (x right, y down from its top-left pixel); all 0: the "
+                    "panel's corners")
+
+    def execute(self, context):
+        settings = context.scene.texsynth.plane
+        corners = list(self.corners) if any(self.corners) else list(settings.corners)
+        try:
+            image = find_photo(context, self.image)
+            width, height = image.size
+            if not width or not height:
+                raise ValueError(f"Image '{image.name}' has no pixel data")
+            focal, focal_source = known_focal(context.scene, image, width, height)
+            result = estimate.from_rectangle([corners[i:i + 2] for i in range(0, 8, 2)],
+                                             (height, width), focal_px=focal)
+        except ValueError as error:
+            return _fail(self, error)
+        settings.corners = corners
+        store(self, settings, image.name, result, focal_source)
+        return {"FINISHED"}
+
+
+def _image_pixel(context, image, x: int, y: int) -> tuple[float, float]:
+    """The photo's pixel (x right, y down) under the region point (x, y)."""
+    u, v = context.region.view2d.region_to_view(x, y)
+    width, height = image.size
+    return u * width - 0.5, (1.0 - v) * height - 0.5
+
+
+class TEXSYNTH_OT_place_corners(bpy.types.Operator):
+    """Click the four corners of a rectangle on the plane, in order around it (Esc cancels);
+    the plane is then taken from it"""
+
+    bl_idname = "texsynth.place_corners"
+    bl_label = "Place Rectangle Corners"
+
+    @classmethod
+    def poll(cls, context):
+        space = getattr(context, "space_data", None)
+        if space is None or space.type != "IMAGE_EDITOR" or space.image is None:
+            cls.poll_message_set("Open the photo in the Image Editor first")
+            return False
+        return True
+
+    def invoke(self, context, event):
+        self.points = []
+        self.handle = bpy.types.SpaceImageEditor.draw_handler_add(
+            _draw_corners, (self, context), "WINDOW", "POST_PIXEL")
+        context.window_manager.modal_handler_add(self)
+        context.workspace.status_text_set("Click corner 1 of 4 of a rectangle on the plane "
+                                          "(in order around it); Esc or right-click cancels")
+        return {"RUNNING_MODAL"}
+
+    def _end(self, context):
+        bpy.types.SpaceImageEditor.draw_handler_remove(self.handle, "WINDOW")
+        context.workspace.status_text_set(None)
+        context.area.tag_redraw()
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            self._end(context)
+            return {"CANCELLED"}
+        if event.type == "LEFTMOUSE" and event.value == "PRESS":
+            image = context.space_data.image
+            self.points.append(_image_pixel(context, image, event.mouse_region_x,
+                                            event.mouse_region_y))
+            context.area.tag_redraw()
+            if len(self.points) < 4:
+                context.workspace.status_text_set(f"Click corner {len(self.points) + 1} of 4")
+                return {"RUNNING_MODAL"}
+            self._end(context)
+            flat = [c for point in self.points for c in point]
+            bpy.ops.texsynth.plane_from_rectangle(image=image.name, corners=flat)
+            return {"FINISHED"}
+        return {"PASS_THROUGH"}
+
+
+def _draw_corners(operator, context):
+    """The corners placed so far and the sides between them, over the image."""
+    image = context.space_data.image
+    width, height = image.size
+    points = [context.region.view2d.view_to_region((x + 0.5) / width, 1.0 - (y + 0.5) / height,
+                                                   clip=False) for x, y in operator.points]
+    if not points:
+        return
+    shader = gpu.shader.from_builtin("UNIFORM_COLOR")
+    shader.uniform_float("color", (1.0, 0.6, 0.0, 1.0))
+    gpu.state.point_size_set(8.0)
+    batch_for_shader(shader, "POINTS", {"pos": points}).draw(shader)
+    if len(points) > 1:
+        batch_for_shader(shader, "LINE_STRIP", {"pos": points}).draw(shader)
 
 
 class TEXSYNTH_OT_align_camera(NeedsEstimate, bpy.types.Operator):
@@ -345,5 +475,6 @@ class TEXSYNTH_OT_rectify(NeedsEstimate, bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_align_camera, TEXSYNTH_OT_rectify)
+classes = (TEXSYNTH_OT_estimate_plane, TEXSYNTH_OT_plane_from_rectangle,
+           TEXSYNTH_OT_place_corners, TEXSYNTH_OT_align_camera, TEXSYNTH_OT_rectify)
 register, unregister = bpy.utils.register_classes_factory(classes)

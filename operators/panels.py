@@ -216,10 +216,18 @@ class PlanePanel:
         row.enabled = settings.method == "AUTO"
         row.prop(settings, "use_camera_focal")
         layout.operator("texsynth.estimate_plane", icon="VIEW_PERSPECTIVE")
+        # The user's own reading where the estimate cannot be trusted (issue 42).
+        column = layout.column(align=True)
+        if self.in_image_editor:
+            column.operator("texsynth.place_corners", icon="MOD_LATTICE",
+                            text="Place Rectangle Corners")
+        column.prop(settings, "corners", text="Corners")
+        column.operator("texsynth.plane_from_rectangle", icon="SNAP_FACE")
         if not settings.has_estimate:
             return
         box = layout.box()
-        box.label(text=f"Estimate of '{settings.image}'", icon="IMAGE_DATA")
+        box.label(text=("Rectangle on '{}'" if settings.from_rectangle else "Estimate of '{}'")
+                  .format(settings.image), icon="IMAGE_DATA")
         box.prop(settings, "slant")
         box.prop(settings, "tilt")
         if settings.tilt_ambiguous:

@@ -335,6 +335,14 @@ class TEXSYNTH_PG_plane(bpy.types.PropertyGroup):
                     "(35 mm equivalent), so the photo reads as frontal under that prior")
     rectified: bpy.props.StringProperty(name="Rectified Image",
                                         description="Name of the last rectified image")
+    corners: bpy.props.FloatVectorProperty(
+        name="Rectangle Corners", size=8, subtype="NONE",
+        description="x1, y1, ..., x4, y4: four corners of a rectangle on the plane, in order "
+                    "around it, in pixels of the photo (x right, y down from its top-left "
+                    "pixel); Plane from Rectangle takes the plane from them")
+    from_rectangle: bpy.props.BoolProperty(
+        name="From Rectangle", options={"HIDDEN"},
+        description="The stored plane came from the rectangle's corners, not the estimate")
 
 
 TEXSYNTH_PG_settings = type("TEXSYNTH_PG_settings", (bpy.types.PropertyGroup,), {

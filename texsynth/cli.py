@@ -50,7 +50,14 @@ from .jobs import (
     read_input,
     write_outputs,
 )
-from .plane import ESTIMATE_METHODS, estimate_plane, focal_px_from_file, rectify
+from .plane import (
+    ESTIMATE_METHODS,
+    estimate_plane,
+    focal_px_from_file,
+    from_rectangle,
+    rectify,
+    verdict,
+)
 from .progress import Cancelled, TimeLeft
 from .registry import get_method, methods
 from .validation import BudgetError
@@ -275,9 +282,24 @@ def _estimate(args, photo):
     if focal is None:
         focal = focal_px_from_file(args.photo)
         origin = "exif" if focal is not None else None
-    plane = estimate_plane(photo, focal_px=focal, method=args.method)
+    if args.corners is None:
+        plane = estimate_plane(photo, focal_px=focal, method=args.method)
+    else:  # the user's rectangle: x1,y1,...,x4,y4 in pixels, x right, y down
+        try:
+            xy = [float(v) for v in args.corners.split(",")]
+        except ValueError:
+            xy = []
+        if len(xy) != 8:
+            raise UsageError(f"--corners must be 8 numbers x1,y1,x2,y2,x3,y3,x4,y4 (pixels, "
+                             f"in order around the rectangle), got {args.corners!r}")
+        plane = from_rectangle([xy[i:i + 2] for i in range(0, 8, 2)], photo.shape[:2],
+                               focal)
     if origin is None:
         origin = "estimated" if plane.focal_estimated else "none (orthographic)"
+    judged = verdict(plane)
+    if judged.guess:  # said even with -q: a guess applied as it is warps the photo
+        print(f"texsynth: warning: the plane is a guess: {'; '.join(judged.reasons)}; "
+              "--corners takes it from a rectangle on it", file=sys.stderr)
     return plane, origin
 
 
@@ -411,6 +433,10 @@ def build_parser() -> argparse.ArgumentParser:
                          help="focal length in pixels (default: from the EXIF, else estimated)")
         sub.add_argument("--method", choices=ESTIMATE_METHODS, default="auto",
                          help="auto: perspective and lines; isotropy: orthographic, tilt mod 180")
+        sub.add_argument("--corners", default=None, metavar="X1,Y1,...,X4,Y4",
+                         help="the plane from a rectangle on it instead: its four corners in "
+                              "order around it (pixels, x right, y down); the focal length as "
+                              "above, else from the rectangle's vanishing points")
         if name == "rectify":
             sub.add_argument("--size", type=_size, default=None, metavar="N|WxH",
                              help="resample the frontal view to this size (default: the "

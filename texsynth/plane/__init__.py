@@ -10,6 +10,8 @@ planes"). The modules, in the order a photo goes through them:
 - :mod:`~texsynth.plane.fit`: the search, its uncertainty, :func:`estimate_plane`, combining the
   texture with the lines (:mod:`~texsynth.plane.combine`);
 - :mod:`~texsynth.plane.verdict`: a measurement or a guess, and why, in a user's words;
+- :mod:`~texsynth.plane.rectangle`: the plane from a rectangle the user marks on it, where the
+  estimate cannot be trusted;
 - :mod:`~texsynth.plane.rectify`: the frontal view of the texture;
 - :mod:`~texsynth.plane.camera`: Blender's lens and sensor fit, the camera pose;
 - :mod:`~texsynth.plane.exif`: the focal length a camera wrote into the photo's file.
@@ -19,12 +21,14 @@ from .camera import camera_pose, focal_px_from_lens, lens_from_focal_px
 from .exif import focal_px_from_file
 from .fit import ESTIMATE_METHODS, PlaneEstimate, estimate_plane
 from .geometry import angles_from_normal, image_to_plane, normal_from_angles, plane_to_image
+from .rectangle import from_rectangle
 from .rectify import rectify
 from .verdict import Verdict, verdict
 
 __all__ = [
     "PlaneEstimate",
     "estimate_plane",
+    "from_rectangle",
     "rectify",
     "camera_pose",
     "normal_from_angles",
