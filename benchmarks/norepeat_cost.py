@@ -59,7 +59,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     renders.extension()
     for rel in args.photos:
-        photo = norepeat._box(norepeat._photo(rel), norepeat.SIDE)
+        photo = norepeat.box_average(norepeat.read_large(rel), norepeat.SIDE)
         load = os.getloadavg()[0]
         props = {k: float(v) for k, v in (x.split("=") for x in args.set)}
         wall, cpu, shots = _times(photo, args.size, args.repeats, args.mode, props)

@@ -26,7 +26,7 @@ import bpy
 
 from ..texsynth.norepeat import GRID_SCALE
 from ..texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
-from .norepeat_nodes import TAG, VERSION, _finish, _new_group, triangle_grid
+from .norepeat_nodes import TAG, VERSION, finish_group, new_group, triangle_grid
 
 GRID = "TexSynth Hex Grid"
 WEIGHTS = "TexSynth Hex Weights"
@@ -34,7 +34,7 @@ PI = 3.141592653589793
 
 
 def _build_grid():
-    group, b, i = _new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
+    group, b, i = new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
                                     ("Seed", "Float", 0.0), ("Rotation", "Float", 1.0),
                                     ("Texels", "Vector")],
                              [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
@@ -55,12 +55,12 @@ def _build_grid():
         offset = b.vector("SNAP", noise.outputs["Color"], texel)
         uvs.append(b.vector("ADD", turned.outputs["Vector"], offset))
         angles.append(angle)
-    _finish(b, uvs + [b.combine(*angles), weights])
+    finish_group(b, uvs + [b.combine(*angles), weights])
     return group
 
 
 def _build_weights():
-    group, b, i = _new_group(WEIGHTS, [("Weights", "Vector"), ("Luminance", "Vector"),
+    group, b, i = new_group(WEIGHTS, [("Weights", "Vector"), ("Luminance", "Vector"),
                                        ("Contrast", "Float", CONTRAST),
                                        ("Sharpness", "Float", SHARPNESS)],
                              [("Weights", "Vector")])
@@ -70,7 +70,7 @@ def _build_weights():
     # w_i ** sharpness per component (Vector Math has no POWER before Blender 4.3)
     sharp = b.combine(*(b.math("POWER", w, i["Sharpness"]) for w in b.separate(i["Weights"])))
     w = b.vector("MULTIPLY", d, sharp)
-    _finish(b, [b.vector("DIVIDE", w, b.vector("DOT_PRODUCT", w, (1.0, 1.0, 1.0)))])
+    finish_group(b, [b.vector("DIVIDE", w, b.vector("DOT_PRODUCT", w, (1.0, 1.0, 1.0)))])
     return group
 
 
@@ -96,7 +96,7 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
         inputs.append(("Luminance", "Vector"))
     else:
         outputs.append(("Luminance", "Vector"))
-    group, b, i = _new_group(name, inputs, outputs)
+    group, b, i = new_group(name, inputs, outputs)
     grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID))
     for socket in ("Vector", "Scale", "Seed", "Rotation"):
         b.tree.links.new(i[socket], grid.inputs[socket])
@@ -131,7 +131,7 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
                          (0.5, 0.5, 0.5))
     opaque = b.node("ShaderNodeValue")
     opaque.outputs[0].default_value = 1.0
-    _finish(b, [total, opaque.outputs[0]] + ([] if follower else [luminance]))
+    finish_group(b, [total, opaque.outputs[0]] + ([] if follower else [luminance]))
     return group
 
 

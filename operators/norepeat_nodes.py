@@ -78,7 +78,7 @@ class _Builder:
         return self.node("ShaderNodeCombineXYZ", values).outputs[0]
 
 
-def _new_group(name, inputs, outputs):
+def new_group(name, inputs, outputs):
     """An empty shader group with the named sockets ((name, type, default) / (name, type))."""
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
     group[TAG] = VERSION
@@ -93,7 +93,7 @@ def _new_group(name, inputs, outputs):
     return group, b, b.node("NodeGroupInput").outputs
 
 
-def _finish(b, values):
+def finish_group(b, values):
     out = b.node("NodeGroupOutput")
     for socket, value in zip(out.inputs, values, strict=False):
         b.tree.links.new(value, socket)
@@ -124,7 +124,7 @@ def triangle_grid(b, uv, s, seed):
 
 
 def _build_grid():
-    group, b, i = _new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
+    group, b, i = new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
                                     ("Seed", "Float", 0.0), ("Texels", "Vector")],
                              [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
                               ("Weights", "Vector")])
@@ -137,12 +137,12 @@ def _build_grid():
         # the offset's first two values snapped to whole texels (the third is below 1: 0)
         uvs.append(b.vector("ADD", uv, b.vector("SNAP", offset.outputs["Color"], texel)))
     # the weights divided by their norm, as the blend needs them
-    _finish(b, uvs + [b.vector("NORMALIZE", weights)])
+    finish_group(b, uvs + [b.vector("NORMALIZE", weights)])
     return group
 
 
 def _build_blend():
-    group, b, i = _new_group(BLEND, [("Gaussian 1", "Color"), ("Gaussian 2", "Color"),
+    group, b, i = new_group(BLEND, [("Gaussian 1", "Color"), ("Gaussian 2", "Color"),
                                      ("Gaussian 3", "Color"), ("Weights", "Vector")],
                              [("Gaussian", "Vector")])
     # (sum w_i G_i - 1/2) / |w| + 1/2 = sum (w_i / |w|) (G_i - 1/2) + 1/2 as sum w_i G_i of
@@ -151,7 +151,7 @@ def _build_blend():
     total = b.scale(i["Gaussian 3"], w[2])
     for k in (1, 0):
         total = b.vector("MULTIPLY_ADD", i[f"Gaussian {k + 1}"], w[k], total)
-    _finish(b, [total])
+    finish_group(b, [total])
     return group
 
 
@@ -169,7 +169,7 @@ def map_group(name, gaussian, curves, interpolation):
     """A new group (Vector, Scale, Seed -> Color, Alpha) tiling and blending one map, from its
     Gaussianised image (centred: ``G - 1/2``) and its inverse table as curves
     (``Gaussianized.curves``: (N, 3), the output channels at Gaussian values ``i / (N - 1)``)."""
-    group, b, i = _new_group(name, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
+    group, b, i = new_group(name, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
                                     ("Seed", "Float", 0.0)],
                              [("Color", "Color"), ("Alpha", "Float")])
     grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID))
@@ -186,7 +186,7 @@ def map_group(name, gaussian, curves, interpolation):
     set_curves(table.mapping, curves)
     opaque = b.node("ShaderNodeValue")
     opaque.outputs[0].default_value = 1.0
-    _finish(b, [table.outputs["Color"], opaque.outputs[0]])
+    finish_group(b, [table.outputs["Color"], opaque.outputs[0]])
     return group
 
 

@@ -31,7 +31,7 @@ import numpy as np
 from .. import texsynth
 from ..texsynth.norepeat import predict_tiles_memory, wang_tiles
 from ..texsynth.norepeat.tiles import MIN_TILE, default_tile
-from .norepeat_nodes import TAG, VERSION, _finish, _new_group
+from .norepeat_nodes import TAG, VERSION, finish_group, new_group
 
 CELLS = "TexSynth Wang Cells"
 GUTTER = 8  # atlas gutter in pixels (at most a quarter of the tile)
@@ -95,7 +95,7 @@ def _atlas_image(source, atlas):
 
 
 def _build_cells():
-    group, b, i = _new_group(CELLS, [("Vector", "Vector"), ("Scale", "Float", 2.0),
+    group, b, i = new_group(CELLS, [("Vector", "Vector"), ("Scale", "Float", 2.0),
                                      ("Seed", "Float", 0.0), ("Aspect", "Float", 1.0),
                                      ("Colours", "Float", 2.0)],
                              [("Position", "Vector"), ("Row", "Float"), ("Column", "Float")])
@@ -118,7 +118,7 @@ def _build_cells():
     (south, west), (north, _), (_, east) = edges(0.0, 0.0), edges(0.0, 1.0), edges(1.0, 0.0)
     row = b.math("MULTIPLY_ADD", north, i["Colours"], south)
     column = b.math("MULTIPLY_ADD", west, i["Colours"], east)
-    _finish(b, [position, row, column])
+    finish_group(b, [position, row, column])
     return group
 
 
@@ -134,7 +134,7 @@ def cells_group():
 def map_group(name, atlas, tiles, interpolation):
     """A new group (Vector, Scale, Seed -> Color, Alpha) laying ``tiles`` (``WangTiles``) from
     the ``atlas`` image (Blender's rows, bottom first)."""
-    group, b, i = _new_group(name, [("Vector", "Vector"), ("Scale", "Float", 2.0),
+    group, b, i = new_group(name, [("Vector", "Vector"), ("Scale", "Float", 2.0),
                                     ("Seed", "Float", 0.0)],
                              [("Color", "Color"), ("Alpha", "Float")])
     cells = b.node("ShaderNodeGroup", node_tree=cells_group())
@@ -155,5 +155,5 @@ def map_group(name, atlas, tiles, interpolation):
                   extension="EXTEND")
     opaque = b.node("ShaderNodeValue")
     opaque.outputs[0].default_value = 1.0
-    _finish(b, [read.outputs["Color"], opaque.outputs[0]])
+    finish_group(b, [read.outputs["Color"], opaque.outputs[0]])
     return group

@@ -36,7 +36,7 @@ import bpy
 from .. import texsynth
 
 # Blender 4.5+ warns about "//" paths in properties without this flag; older versions lack it.
-_BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
+BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
 
 OUTPUT_ITEMS = (
     ("PACK", "Pack", "Keep the new image inside the .blend file"),
@@ -126,7 +126,7 @@ def _common_properties(options: set, methods) -> dict:
         "output_dir": bpy.props.StringProperty(
             name="Directory",
             description="Folder for saved files ('//' is the .blend file's folder)",
-            default="//", subtype="DIR_PATH", options=options | _BLEND_RELATIVE,
+            default="//", subtype="DIR_PATH", options=options | BLEND_RELATIVE,
         ),
     }
 

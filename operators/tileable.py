@@ -39,7 +39,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
                                    options={"SKIP_SAVE"})
     output_dir: bpy.props.StringProperty(name="Output Directory", subtype="DIR_PATH",
                                          default="//",
-                                         options={"SKIP_SAVE"} | properties._BLEND_RELATIVE)
+                                         options={"SKIP_SAVE"} | properties.BLEND_RELATIVE)
 
     def draw(self, context):
         for name in ("band", "all_maps", "seed", "output"):

@@ -5,7 +5,9 @@
 - the imports among texsynth/'s modules form no cycle (a package's ``__init__`` re-exporting its
   own submodules is not a cycle: those submodules never import it back);
 - the core never imports bpy;
-- every method is registered from its own home under texsynth/algorithms/.
+- every method is registered from its own home under texsynth/algorithms/;
+- outside tests/, no module imports or reaches a private name (``_x``) of another of ours
+  (the core, the operators, the benchmarks): a name another module uses is public in its home.
 """
 
 import ast
@@ -14,6 +16,7 @@ from pathlib import Path
 import texsynth
 
 CORE = Path(texsynth.__file__).parent
+REPO = CORE.parent
 
 
 def _module_name(path: Path) -> str:
@@ -95,3 +98,64 @@ def test_no_import_cycles():
 def test_every_method_lives_under_algorithms():
     for method in texsynth.methods():
         assert method.function.__module__.startswith("texsynth.algorithms."), method.name
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _private_uses(name: str, path: Path, modules: dict) -> list[str]:
+    """``from ours import _x`` and ``ours._x`` (through any chain of our modules) in ``path``."""
+    tree = ast.parse(path.read_text())
+    bound, uses = {}, []   # local name -> the module of ours it stands for
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            base = name.split(".") if name else []
+            if node.level:
+                base = base[: len(base) - (path.name != "__init__.py") - node.level + 1]
+            target = ".".join((base if node.level else []) + ([node.module] if node.module else []))
+            if not any(m == target or m.startswith(target + ".") for m in modules):
+                continue
+            for alias in node.names:
+                if _private(alias.name):
+                    uses.append(f"{path.relative_to(REPO)}:{node.lineno} imports "
+                                f"{target}.{alias.name}")
+                if f"{target}.{alias.name}".lstrip(".") in modules:
+                    bound[alias.asname or alias.name] = f"{target}.{alias.name}".lstrip(".")
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] in {m.split(".")[0] for m in modules if m}:
+                    bound[alias.asname or alias.name.split(".")[0]] = (
+                        alias.name if alias.asname else alias.name.split(".")[0])
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Attribute):
+            continue
+        chain, value = [node.attr], node.value
+        while isinstance(value, ast.Attribute):
+            chain.insert(0, value.attr)
+            value = value.value
+        if not (isinstance(value, ast.Name) and value.id in bound and _private(node.attr)):
+            continue
+        module = bound[value.id]
+        for i, part in enumerate(chain):
+            if _private(part):
+                if module != name:
+                    uses.append(f"{path.relative_to(REPO)}:{node.lineno} reaches "
+                                f"{module}.{part} ({value.id}.{'.'.join(chain[:i + 1])})")
+                break
+            if f"{module}.{part}" not in modules:
+                break
+            module = f"{module}.{part}"
+    return uses
+
+
+def test_no_private_names_across_modules():
+    def name(path):
+        parts = path.relative_to(REPO).with_suffix("").parts
+        return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+    paths = [p for p in REPO.rglob("*.py")
+             if not {"tests", ".venv", ".git", "build"} & set(p.relative_to(REPO).parts)]
+    modules = {name(p): p for p in paths}
+    uses = [u for n, p in sorted(modules.items()) for u in _private_uses(n, p, modules)]
+    assert not uses, "\n".join(uses)

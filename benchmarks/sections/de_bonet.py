@@ -122,7 +122,7 @@ def _timing(ctx, sizes):
               if side <= 2048 else None)
         out = ctx.measure(lambda s=side: texsynth.synthesize(ex, s, s, method="de_bonet",
                                                              seed=SEED), repeats)
-        estimate = db._memory(ex.shape, side, side, DEFAULTS) / 2**20
+        estimate = db.METHOD.memory(ex.shape, side, side, DEFAULTS) / 2**20
         hb_cells = (f"{hb.median_s:.2f} | {hb.peak_mib:.0f}" if hb else "see Scaling | -")
         ratio = f"{out.median_s / hb.median_s:.2f}" if hb else "-"
         lines.append(f"| {ex.shape[0]} -> {side} | {hb_cells} | {out.median_s:.2f} | "

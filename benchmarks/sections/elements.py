@@ -97,7 +97,7 @@ def run(ctx) -> str:
         band = default_band(image.shape)
         joints = None if sigma is None else Joints.fit(image, sigma)
         reference = None if joints is None else metrics.dead_ends(image, joints, wrap=False)
-        dead, phase, plain, sharp, kept, crops = [], [], [], [], [], [photos._corner(image, VIEW)]
+        dead, phase, plain, sharp, kept, crops = [], [], [], [], [], [photos.corner(image, VIEW)]
         for seed in seeds:
             out = make_tileable(image, seed=seed)
             if joints is not None:
@@ -107,7 +107,7 @@ def run(ctx) -> str:
             plain.append(metrics.seam_ratio(out))
             sharp.append(metrics.band_sharpness(out, band))
             kept.append(float(np.all(out == image, axis=2).mean()))
-            crops.append(photos._corner(out, VIEW))
+            crops.append(photos.corner(out, VIEW))
         per_seed = " ".join(f"{d:.2f}/{p:.2f}" for d, p in zip(dead, phase, strict=False)) \
             if dead else " ".join(f"{p:.2f}" for p in plain)
         table.append(

@@ -48,7 +48,7 @@ def _angle(a, b) -> float:
     return math.degrees(math.acos(max(-1.0, min(1.0, float(np.dot(a, b))))))
 
 
-def _score(view, result) -> dict:
+def score(view, result) -> dict:
     truth = plane.normal_from_angles(view.slant, view.tilt)
     normal = np.asarray(result.normal)
     flipped = plane.normal_from_angles(result.slant, result.tilt + 180.0)
@@ -64,7 +64,7 @@ def _score(view, result) -> dict:
             "uncertainty": result.normal_uncertainty, "families": result.line_families}
 
 
-def _exif_jpeg(view, photo) -> Path:
+def exif_jpeg(view, photo) -> Path:
     """The render as a phone would store it: JPEG with FocalLength and its 35 mm equivalent."""
     path = plane_renders.CACHE / f"{view.key()}_exif.jpg"
     if not path.exists():
@@ -108,18 +108,18 @@ def run(ctx) -> str:
     seconds = []
     exif_focal = []
     for family, view, photo in items:
-        base = _score(view, moments.estimate(photo))
+        base = score(view, moments.estimate(photo))
         if view.focal_px is None:
             calls = {"ortho": None}
         else:
-            focal = plane.focal_px_from_file(_exif_jpeg(view, photo))
+            focal = plane.focal_px_from_file(exif_jpeg(view, photo))
             exif_focal.append(focal / view.focal_px - 1.0)
             calls = {"exif": focal, "unknown": None}
         for condition, focal in calls.items():
             tic = time.perf_counter()
             result = plane.estimate_plane(photo, focal_px=focal)
             seconds.append(time.perf_counter() - tic)
-            scores[family, condition, "texsynth"].append((view, _score(view, result)))
+            scores[family, condition, "texsynth"].append((view, score(view, result)))
             scores[family, condition, "baseline"].append((view, base))
 
     def errors(family, condition, who, keep=lambda v: v.slant >= 20):

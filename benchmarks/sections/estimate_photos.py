@@ -27,10 +27,10 @@ from PIL import Image
 
 from benchmarks import manmade, plane_renders
 from benchmarks.context import SHARED_TEXTURES
-from benchmarks.sections.estimate import _exif_jpeg, _score
+from benchmarks.sections.estimate import exif_jpeg, score
 from texsynth import plane
 from texsynth.io import read_photo
-from texsynth.plane.lines import _RIDGE_SIDE
+from texsynth.plane.lines import RIDGE_SIDE
 from texsynth.plane.spectra import block_factor
 
 ORDER = 71
@@ -53,8 +53,8 @@ PHONE_12MP = (4032, 3024)  # a 12 MP phone photo, for the line detector's readin
 
 def _detector_size(width: int, height: int) -> str:
     """The size at which the line detector reads a ``width`` x ``height`` photo (block means
-    at up to ``_RIDGE_SIDE``)."""
-    k = block_factor((height, width), _RIDGE_SIDE)
+    at up to ``RIDGE_SIDE``)."""
+    k = block_factor((height, width), RIDGE_SIDE)
     return f"{width // k} x {height // k}"
 
 
@@ -229,18 +229,18 @@ def run(ctx) -> str:
         for view in views:
             photo = rendered[view.key()]
             calls = {"ortho": None} if view.focal_px is None else {
-                "exif": plane.focal_px_from_file(_exif_jpeg(view, photo)), "unknown": None}
+                "exif": plane.focal_px_from_file(exif_jpeg(view, photo)), "unknown": None}
             for condition, focal in calls.items():
                 tic = time.process_time()
                 result = plane.estimate_plane(photo, focal_px=focal)
                 scores[family, condition].append(
-                    (view, {**_score(view, result), "cpu": time.process_time() - tic}))
+                    (view, {**score(view, result), "cpu": time.process_time() - tic}))
             if family == "shared textures":
                 continue
             for quality in QUALITIES:
                 try:
                     result = plane.estimate_plane(_jpeg(photo, quality))
-                    jpeg[family, quality].append(_score(view, result)["error"])
+                    jpeg[family, quality].append(score(view, result)["error"])
                 except ValueError:
                     jpeg[family, quality].append(None)
 

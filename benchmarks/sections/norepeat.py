@@ -33,11 +33,11 @@ MODES = (("TILING_AND_BLENDING", "Tiling and Blending"), ("TILE_SET", "Tile Set"
          ("HEX_TILING", "Hex Tiling"))
 
 
-def _photo(rel):
+def read_large(rel):
     return read_photo(SHARED_TEXTURES / "large" / rel)[:, :, :3].astype(np.float32)
 
 
-def _box(photo, side):
+def box_average(photo, side):
     f = photo.shape[0] // side
     return photo[:side * f, :side * f].reshape(side, f, side, f, 3).mean(axis=(1, 3))
 
@@ -96,13 +96,13 @@ def run(ctx) -> str:
     repeats = 1 if ctx.quick else 2
     rows, cost_rows, pictures, readme = [], [], [], {}
     for rel, kind in photos:
-        full = _photo(rel)
+        full = read_large(rel)
         h, w = full.shape[:2]
         for name, seconds, peak, predicted in _precompute(full):
             cost_rows.append(f"| {rel} | {w} x {h} | `{name}` | {seconds:.2f} | "
                              f"{peak / 2**20:.0f} | {predicted / 2**20:.0f} "
                              f"({predicted / peak:.2f}x) |")
-        photo = _box(full, SIDE)
+        photo = box_average(full, SIDE)
         top = _renders(photo, "top", TILES, repeats)
         plain, t_plain = top["plain"]
         for mode, label in MODES:

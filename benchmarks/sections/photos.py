@@ -86,7 +86,7 @@ class Plan:
     env: dict  # for the children: quick mode refuses Efros-Leung as the full sizes do
 
 
-def _manifest() -> list[dict]:
+def manifest() -> list[dict]:
     with (LARGE / "MANIFEST.tsv").open() as f:
         return list(csv.DictReader(f, delimiter="\t"))
 
@@ -98,7 +98,7 @@ def plan(quick: bool) -> Plan:
         return Plan(f"{CAMERA}@600x800", f"{CAMERA}@256x256", 384,
                     (*small, f"{CAMERA}@600x800"), small, (*small, f"{CAMERA}@600x800"),
                     {"TEXSYNTH_TIME_BUDGET": "300"})
-    photos = tuple(row["file"] for row in _manifest())
+    photos = tuple(row["file"] for row in manifest())
     return Plan(CAMERA, f"{CAMERA}@1024x1024", 2048, (*photos, CAMERA),
                 tuple(p for p in photos if p in RESYNTH), SHEETS, {})
 
@@ -172,7 +172,7 @@ def _child(kind: str, key: str, extra: list[str], out: str) -> None:
     jobs.report(out, result, seconds=time.perf_counter() - start, **figures)
 
 
-def _job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
+def job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
          timeout: float | None = None) -> dict:
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
@@ -216,7 +216,7 @@ class Goals:
         return "; ".join(f"{name} {met}/{n}" for name, (met, n) in self.counts.items())
 
 
-def _corner(image: np.ndarray, side: int = VIEW) -> np.ndarray:
+def corner(image: np.ndarray, side: int = VIEW) -> np.ndarray:
     """A full-resolution square around the corner where four tiles meet (the image rolled by
     half the square: the wrap's two seams cross in its middle)."""
     side = min(side, *image.shape[:2])
@@ -229,7 +229,7 @@ def _centre(image: np.ndarray, side: int = VIEW) -> np.ndarray:
     return image[(h - side) // 2:(h - side) // 2 + side, (w - side) // 2:(w - side) // 2 + side]
 
 
-def _cell(r: dict) -> str | None:
+def cell(r: dict) -> str | None:
     """The time cell of a run that did not finish: refused (with the message) or failed."""
     if "refused" in r:
         return f"refused: {r['refused']}"
@@ -238,7 +238,7 @@ def _cell(r: dict) -> str | None:
     return None
 
 
-def _predictions(r: dict, goals: Goals) -> tuple[str, str]:
+def predictions(r: dict, goals: Goals) -> tuple[str, str]:
     """Predicted over measured time, predicted memory over the run's growth of resident memory
     (its peak less the process's size before the call)."""
     t = goals.mark("predicted time", r["predicted_s"] / r["seconds"], *PREDICTION)
@@ -257,21 +257,21 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
              "ratio | predicted MiB / ratio | seam | gradient |", "|---" * 9 + "|"]
     pictures = []
     for method in texsynth.methods():
-        runs = {key: _job(tmp, p.env, "synth", key, method.name, str(p.side))
+        runs = {key: job(tmp, p.env, "synth", key, method.name, str(p.side))
                 for key in (p.camera, p.crop)}
         for key, exemplar in ((p.camera, big), (p.crop, small)):
             r = runs[key]
             head = f"| {method.name} | {label(key)} |"
-            if _cell(r):
+            if cell(r):
                 predicted = (f"{r['predicted_s']:.0f} | {r['predicted_bytes'] / 2**20:.0f}"
                              if "predicted_s" in r else " |")
-                table.append(f"{head} {_cell(r)} | | | {predicted} | | |")
+                table.append(f"{head} {cell(r)} | | | {predicted} | | |")
                 continue
             other = runs[p.crop]
             ratio = (goals.mark("12 MP / crop time", r["seconds"] / other["seconds"], 0,
                                 CAMERA_OVER_CROP) if key == p.camera and "seconds" in other
                      else "")
-            t, m = _predictions(r, goals)
+            t, m = predictions(r, goals)
             seam = metrics.seam_ratio(r["image"])
             gradient = metrics.gradient_ratio(exemplar, r["image"])
             table.append(
@@ -282,7 +282,7 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         if any("image" in r for r in runs.values()):
             sheet = ctx.contact_sheet(
                 f"photos_{method.name}.png", ["photo", "from 12 MP", "from crop"],
-                [[_centre(big)] + [_corner(runs[k]["image"]) if "image" in runs[k] else None
+                [[_centre(big)] + [corner(runs[k]["image"]) if "image" in runs[k] else None
                                    for k in (p.camera, p.crop)]], cell=VIEW)
             pictures += [f"![{method.name}: photo, output from the 12 MP photo, output from the "
                          f"crop]({sheet})", ""]
@@ -341,21 +341,21 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         image = photo(key)
         h, w = image.shape[:2]
         band = default_band(image.shape)
-        runs = {"ours": _job(tmp, p.env, "tileable", key)}
+        runs = {"ours": job(tmp, p.env, "tileable", key)}
         if has_gimp:
-            runs["GIMP"] = _job(tmp, p.env, "gimp", key)
+            runs["GIMP"] = job(tmp, p.env, "gimp", key)
         if rs.missing is None and key in p.resynth:
             # The peer's runs do not depend on texsynth's code: kept across its versions.
             peer_runs = tmp.parent / "peers"
             peer_runs.mkdir(parents=True, exist_ok=True)
-            runs["Resynth."] = _job(peer_runs, p.env, "resynth", key, timeout=RESYNTH_LIMIT)
+            runs["Resynth."] = job(peer_runs, p.env, "resynth", key, timeout=RESYNTH_LIMIT)
         seam = metrics.seam_ratio(image)
         tiling += TARGET[0] <= seam <= TARGET[1]
         table.append(f"| **{label(key)}**, {w} x {h}, band {band} | photo as it is | | | | | | "
                      f"{seam:.2f} | | | |")
         for tool, r in runs.items():
-            if _cell(r):
-                table.append(f"| | {tool} | {_cell(r)} | | | | | | | | |")
+            if cell(r):
+                table.append(f"| | {tool} | {cell(r)} | | | | | | | | |")
                 continue
             q = _quality(image, r["image"], band)
             ratio = ""
@@ -365,7 +365,7 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
                          if h * w == 2048 ** 2 else f"{x:.2f}")
             if tool == "Resynth.":
                 rs_times[h * w] = r["seconds"]
-            t, m = _predictions(r, goals) if tool == "ours" else ("", "")
+            t, m = predictions(r, goals) if tool == "ours" else ("", "")
             peak = goals.mark("peak RSS (ours)", r["rss"], 0, PEAK_MIB, 0) if tool == "ours" else (
                 f"{r['rss']:.0f}" if tool == "Resynth." else "")
             table.append(
@@ -377,7 +377,7 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         if key.partition("@")[0] == README_PHOTO and "image" in runs["ours"]:
             readme = _readme_picture(ctx, key, image, runs["ours"]["image"])
         if key in p.sheets:
-            cells = [_corner(image)] + [_corner(runs[t]["image"]) if "image" in runs.get(t, {})
+            cells = [corner(image)] + [corner(runs[t]["image"]) if "image" in runs.get(t, {})
                                         else None for t in ("GIMP", "Resynth.", "ours")]
             sheet = ctx.contact_sheet(f"photos_tileable_{Path(key.partition('@')[0]).stem}.png",
                                       ["photo", "GIMP", "Resynth.", "ours"], [cells], cell=VIEW)
@@ -425,8 +425,8 @@ def _readme_picture(ctx, key: str, image: np.ndarray, ours: np.ndarray) -> list[
     2 x 2, each a full-resolution view around the corner where the four tiles meet."""
     gap = np.ones((min(README_VIEW, *image.shape[:2]), 12, 3), np.float32)
     path = ctx.save_jpeg("readme_make_tileable.png", np.concatenate(
-        [_corner(image, README_VIEW), gap, _corner(ours, README_VIEW)], axis=1))
-    row = next(r for r in _manifest() if r["file"] == README_PHOTO)
+        [corner(image, README_VIEW), gap, corner(ours, README_VIEW)], axis=1))
+    row = next(r for r in manifest() if r["file"] == README_PHOTO)
     h, w = image.shape[:2]
     return [f"The README's picture: {label(key)} ({w} x {h}; {row['source_package'].split()[0]}"
             f", {row['licence'].split()[0]}), the photo and its make_tileable result, each tiled "

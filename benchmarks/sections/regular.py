@@ -3,7 +3,7 @@ arms on the brick wall, the concrete pavers, the granite setts and the 12 MP pho
 the seam ratio measures when a photo's rhythm puts a joint on the wrap.
 
 Runs make_tileable on every large photo at its own size and on the 12 MP photo, each in its own
-process, through the photos section's runs (``photos._job``: the same child, the same cache,
+process, through the photos section's runs (``photos.job``: the same child, the same cache,
 wall time, peak resident memory and predictions made the same way). Beside the plain
 ``metrics.seam_ratio`` it reports ``metrics.seam_ratio_in_phase``, and it shows what each reads
 on the photos' own interior lines: each photo rolled so that a random interior row and column
@@ -37,7 +37,7 @@ SEEDED, SEEDS = (photos.SETTS, photos.CAMERA), (1, 2)
 def _keys(quick: bool) -> tuple[str, ...]:
     if quick:
         return tuple(f"{p}@384x384" for p in (photos.BRICKS, "nexuiz-textures/concrete_pavers.png"))
-    return (*(row["file"] for row in photos._manifest()), photos.CAMERA)
+    return (*(row["file"] for row in photos.manifest()), photos.CAMERA)
 
 
 def _spread(image: np.ndarray, rng) -> tuple[float, float, float, float]:
@@ -68,16 +68,16 @@ def run(ctx) -> str:
         image = photos.photo(key)
         h, w = image.shape[:2]
         band = default_band(image.shape)
-        r = photos._job(tmp, {}, "tileable", key)
+        r = photos.job(tmp, {}, "tileable", key)
         own = (f"{metrics.seam_ratio(image):.2f} / {metrics.seam_ratio_in_phase(image):.2f}")
         spread = ("" if key.partition("@")[0] == photos.CAMERA else
                   "{:.2f}-{:.2f} / {:.2f}-{:.2f}".format(*_spread(image, rng)))
         head = f"| **{photos.label(key)}**, {w} x {h} | {band} |"
-        if photos._cell(r):
-            table.append(f"{head} {photos._cell(r)} | | | | {own} | {spread} | | | | | |")
+        if photos.cell(r):
+            table.append(f"{head} {photos.cell(r)} | | | | {own} | {spread} | | | | | |")
             continue
         out = r["image"]
-        t, m = photos._predictions(r, goals)
+        t, m = photos.predictions(r, goals)
         table.append(
             f"{head} {r['seconds']:.1f} | {t} | "
             f"{goals.mark('peak RSS', r['rss'], 0, photos.PEAK_MIB, 0)} | {m} | {own} | "
@@ -89,13 +89,13 @@ def run(ctx) -> str:
         if key.partition("@")[0] in SHEETS:
             stem = Path(key.partition("@")[0]).stem
             sheet = ctx.contact_sheet(f"regular_{stem}.png", ["photo", "make_tileable"],
-                                      [[photos._corner(image), photos._corner(out)]],
+                                      [[photos.corner(image), photos.corner(out)]],
                                       cell=photos.VIEW)
             pictures += [f"![{photos.label(key)}: the photo and make_tileable around the wrap's "
                          f"corner]({sheet})", ""]
         if key.partition("@")[0] in SEEDED and not ctx.quick:
             stem = Path(key.partition("@")[0]).stem
-            crops = [photos._corner(out)] + [photos._corner(make_tileable(image, seed=s))
+            crops = [photos.corner(out)] + [photos.corner(make_tileable(image, seed=s))
                                              for s in SEEDS]
             sheet = ctx.contact_sheet(f"regular_{stem}_seeds.png",
                                       [f"seed {s}" for s in (photos.SEED, *SEEDS)], [crops],

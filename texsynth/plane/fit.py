@@ -81,7 +81,7 @@ from .lines import (
 )
 from .search import evaluate, hessian, minimize
 from .spectra import (
-    _ANALYSIS_SIDE,
+    ANALYSIS_SIDE,
     Criterion,
     Spectra,
     downsample,
@@ -424,7 +424,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)
     if min(small.shape) < _MIN_ACROSS:  # a strip: windows a few pixels wide measure nothing
-        longest = _ANALYSIS_SIDE * (min(size) // _MIN_ACROSS)
+        longest = ANALYSIS_SIDE * (min(size) // _MIN_ACROSS)
         raise ValueError(f"image is {size[0]} x {size[1]} pixels, too elongated to read a plane "
                          f"from: crop its longer side to at most {longest} pixels (it is "
                          f"analysed at {small.shape[1]} x {small.shape[0]} and needs "
@@ -486,7 +486,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     floor = _SYSTEMATIC * max(1.0, anisotropy / _ANISOTROPY_OK)
     if spaced is not None and focal_px is not None:
         floor = _SYSTEMATIC  # the lines and their spacing alone give the plane
-    if found and spaced is None:  # the texture fit with the floors _result would state
+    if found and spaced is None:  # the texture fit with the floors plane_estimate would state
         prior = fit.cov + np.diag([floor ** 2 + fit.isotropy_based * _ISOTROPY_FLOOR ** 2,
                                    floor ** 2])
         # The lens prior only where the texture could refute a frontal reading: a directional
@@ -530,9 +530,9 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
         tilt %= 180.0
     focal = None if fit.focal is None else fit.focal * k
     estimated = focal is not None and focal_px is None
-    return _result(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
-                   _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found), floor,
-                   under_prior, seen)
+    return plane_estimate(slant, tilt, focal, estimated, fit.ambiguous, fit.cov, fit.focal_sd,
+                          _anisotropy(crit, fit), fit.isotropy_based, method, size, len(found),
+                          floor, under_prior, seen)
 
 
 def _spacing_conflict(crit: Criterion, v_texture, v_spaced, f: float) -> float:
@@ -604,9 +604,9 @@ def _anisotropy(crit: Criterion, fit: _Fit) -> float:
     return crit.isotropy(fit.p, np.zeros(2) if fit.focal is None else fit.p / fit.focal)[1]
 
 
-def _result(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy, isotropy_based,
-            method, size, line_families, floor, under_prior=False,
-            lines_found=0) -> PlaneEstimate:
+def plane_estimate(slant, tilt, focal, estimated, ambiguous, cov, focal_sd, anisotropy,
+                   isotropy_based, method, size, line_families, floor, under_prior=False,
+                   lines_found=0) -> PlaneEstimate:
     """The record, with uncertainties (one sigma, degrees) and confidence.
 
     confidence = P(normal within 8 deg) * P(receding direction within 30 deg), for Gaussian

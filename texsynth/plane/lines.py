@@ -78,7 +78,7 @@ _SPACED_LINES = 5    # distinct lines an equal spacing needs: three are equally 
 #                      horizon), and the period and its phase take two more
 _LINE_SIDE = 640      # segments are found at up to this longer side (joints are 1-3 px wide
 #                       at the texture's analysis size, head joints under _MIN_LENGTH long)
-_RIDGE_SIDE = 1024    # ... their centre lines at up to this side (a brick wall's head joints, 20-30
+RIDGE_SIDE = 1024     # ... their centre lines at up to this side (a brick wall's head joints, 20-30
 #                       px long there, fell under _MIN_LENGTH at 640)
 
 
@@ -335,12 +335,12 @@ def fine_segments(lum: np.ndarray, small: np.ndarray, k: int, mask: np.ndarray,
                   image=None, ridges: bool = False) -> Segments:
     """:func:`segments` of the photo's luminance ``lum`` found at up to ``_LINE_SIDE`` pixels
     on its longer side (with ``ridges``: the lines' centres in it and in the chroma of its
-    colour ``image``, :func:`_opponent`, at up to ``_RIDGE_SIDE``), in the pixels of its analysis
+    colour ``image``, :func:`_opponent`, at up to ``RIDGE_SIDE``), in the pixels of its analysis
     image ``small`` (``lum`` block-averaged by ``k``, textured where ``mask``). Deviation from
     Burns et al.: the regions are found at the finer size because a real joint (mortar, the
     gap between setts) is 1-3 pixels wide and a head joint shorter than ``_MIN_LENGTH`` at the
     texture's analysis size."""
-    fine, k_f = downsample(lum, _RIDGE_SIDE if ridges else _LINE_SIDE)
+    fine, k_f = downsample(lum, RIDGE_SIDE if ridges else _LINE_SIDE)
     if k_f >= k:
         fine, k_f = small, k
         fine_mask = mask

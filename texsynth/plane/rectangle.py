@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from .. import validation
-from .fit import PlaneEstimate, _result
+from .fit import PlaneEstimate, plane_estimate
 from .geometry import angles_from_normal
 
 __all__ = ["from_rectangle"]
@@ -152,5 +152,5 @@ def from_rectangle(corners, shape, focal_px: float | None = None) -> PlaneEstima
     jac = np.array(rows) * sigma
     cov = jac[:, :2].T @ jac[:, :2]
     focal_sd = None if focal_px is not None else float(math.sqrt(jac[:, 2] @ jac[:, 2]))
-    return _result(slant, tilt, focal, focal_px is None, False, cov, focal_sd, 0.0, False,
-                   "rectangle", (w, h), 0, 0.0)
+    return plane_estimate(slant, tilt, focal, focal_px is None, False, cov, focal_sd, 0.0,
+                          False, "rectangle", (w, h), 0, 0.0)

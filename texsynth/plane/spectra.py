@@ -29,7 +29,7 @@ from .geometry import jacobians
 __all__ = ["texture_mask", "moment_slant"]
 
 _MIN_SIDE = 64           # smallest image side accepted (pixels)
-_ANALYSIS_SIDE = 320    # images are block-averaged down to at most this longer side
+ANALYSIS_SIDE = 320     # images are block-averaged down to at most this longer side
 _ANGLES = 8             # orientation bins over [0, pi): the filter bank's K
 _DLOG = 0.5             # radial bin width in octaves
 _LOG_RANGE = (-14.0, 2.0)  # log2 cycles/px covered by the radial bins (texture frame)
@@ -49,7 +49,7 @@ def luminance(image) -> np.ndarray:
     return a[:, :, 0]
 
 
-def block_factor(shape: tuple[int, ...], side: int = _ANALYSIS_SIDE) -> int:
+def block_factor(shape: tuple[int, ...], side: int = ANALYSIS_SIDE) -> int:
     """The integer factor k that brings the longer of ``shape``'s first two sides to ``side``
     at most (:func:`downsample`'s).
 
@@ -61,7 +61,7 @@ def block_factor(shape: tuple[int, ...], side: int = _ANALYSIS_SIDE) -> int:
     return max(1, math.ceil(max(shape[:2]) / side))
 
 
-def downsample(lum: np.ndarray, side: int = _ANALYSIS_SIDE) -> tuple[np.ndarray, int]:
+def downsample(lum: np.ndarray, side: int = ANALYSIS_SIDE) -> tuple[np.ndarray, int]:
     """Block average (float64) by the integer factor k that brings the longer side to ``side``
     at most (:func:`block_factor`), over the central crop of whole blocks; and k."""
     k = block_factor(lum.shape, side)
