@@ -52,10 +52,26 @@ def synthesize(
 
     Returns
     -------
-    float32 array (height, width, C), periodic in both directions.
+    numpy.ndarray
+        float32 (height, width, C), periodic in both directions. Alpha: a constant alpha
+        channel (an opaque photo) is passed through unchanged; a varying one is synthesized
+        together with the colour as a fourth channel.
 
-    Alpha: a constant alpha channel (an opaque photo) is passed through unchanged; a varying one
-    is synthesized together with the colour as a fourth channel.
+    References
+    ----------
+    Each method cites its paper in its module (``texsynth.get_method(method).function``); the
+    default, ``heeger_bergen``, is Forsyth & Ponce, section 11.3.2, Algorithm 11.4 (Heeger &
+    Bergen 1995). docs/REFERENCES.md lists them all.
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((32, 32, 3), dtype=np.float32)
+    >>> out = texsynth.synthesize(photo, 48, 24, seed=3, iterations=2)
+    >>> out.shape, out.dtype
+    ((24, 48, 3), dtype('float32'))
+    >>> np.array_equal(out, texsynth.synthesize(photo, 48, 24, seed=3, iterations=2))
+    True
     """
     return _run(exemplar, width, height, method, seed, progress, params, False)[0]
 
@@ -71,11 +87,47 @@ def synthesize_positions(
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`synthesize` for methods that copy exemplar pixels, with their position map.
 
-    Returns ``(image, positions)``: the same image :func:`synthesize` gives, and int32
-    (height, width, 2) (row, col) coordinates into the exemplar, so that
-    ``apply_positions(positions, exemplar)`` is that image (after the same uint scaling) and
+    ``apply_positions(positions, exemplar)`` is the image (after the same uint scaling), and
     ``apply_positions(positions, normal_map)`` makes another map of the material follow.
-    Raises ``ValueError`` for methods without position maps (``get_method(name).positions``).
+
+    Parameters
+    ----------
+    exemplar : array (H, W) or (H, W, C), C in 1, 3, 4
+        As for :func:`synthesize`.
+    width, height : int
+        Output size, 1 to ``MAX_SIDE``.
+    method : str
+        A method with position maps (``get_method(name).positions``: ``multiscale_mrf``,
+        ``efros_leung``, ``texture_optimization``); others raise ``ValueError``.
+    seed : int
+        Same inputs and seed give bit-identical output.
+    progress : callable(fraction, message), optional
+        As for :func:`synthesize`.
+    **params
+        The method's parameters.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        The float32 (height, width, C) image :func:`synthesize` gives.
+    positions : numpy.ndarray
+        int32 (height, width, 2): per output pixel, the (row, col) of the exemplar pixel it
+        shows.
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, section 3.1 (the position map ``S`` of the default,
+    ``multiscale_mrf``); Efros & Leung 1999, section 2 (whole pixels copied).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> image, positions = texsynth.synthesize_positions(photo, 24, 20, seed=1)
+    >>> positions.shape, positions.dtype
+    ((20, 24, 2), dtype('int32'))
+    >>> np.array_equal(texsynth.apply_positions(positions, photo), image)
+    True
     """
     return _run(exemplar, width, height, method, seed, progress, params, True)
 

@@ -27,9 +27,33 @@ def _check(positions) -> np.ndarray:
 def apply_positions(positions, image) -> np.ndarray:
     """``image[positions[..., 0], positions[..., 1]]``: ``image`` resampled by a position map.
 
-    ``image`` is (h, w) or (h, w, C) with the exemplar's size, any dtype (kept, so 16-bit or
-    float maps stay exact). Applied to the exemplar the synthesis ran on, it gives back the
-    synthesized image bit for bit.
+    Parameters
+    ----------
+    positions : integer array (height, width, 2)
+        (row, col) into the exemplar per output pixel, as :func:`texsynth.synthesize_positions`
+        returns.
+    image : array (h, w) or (h, w, C)
+        An image of the exemplar's size (the exemplar, or another map of its material), any
+        dtype.
+
+    Returns
+    -------
+    numpy.ndarray
+        (height, width) or (height, width, C) of ``image``'s dtype (kept, so 16-bit or float
+        maps stay exact). Applied to the exemplar the synthesis ran on, it gives back the
+        synthesized image bit for bit.
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, section 2.3 (the stack's columns copied through the
+    support's positions: ``synthesize_stack(mode="column")``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> image = np.arange(6).reshape(2, 3)
+    >>> apply_positions(np.array([[[0, 2], [1, 0]]], np.int32), image)
+    array([[2, 3]])
     """
     p = _check(positions)
     a = np.asarray(image)
@@ -45,8 +69,32 @@ def apply_positions(positions, image) -> np.ndarray:
 
 
 def positions_image(positions, exemplar_shape) -> np.ndarray:
-    """A picture of a position map, float32 (height, width, 3): x (column) -> red,
-    y (row) -> green, each 0 to 1 across the exemplar; blue 0."""
+    """A picture of a position map: x (column) -> red, y (row) -> green, each 0 to 1 across the
+    exemplar; blue 0.
+
+    Parameters
+    ----------
+    positions : integer array (height, width, 2)
+        (row, col) into the exemplar per output pixel.
+    exemplar_shape : tuple
+        The exemplar's shape (h, w, ...): the coordinates' range.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (height, width, 3).
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, section 3.1 (the position map ``S`` it pictures).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> positions_image(np.array([[[0, 0], [3, 7]]], np.int32), (4, 8, 3))
+    array([[[0., 0., 0.],
+            [1., 1., 0.]]], dtype=float32)
+    """
     p = _check(positions)
     h, w = exemplar_shape[:2]
     out = np.zeros(p.shape[:2] + (3,), np.float32)

@@ -9,7 +9,27 @@ __all__ = ["Cancelled", "Progress", "TimeLeft"]
 
 
 class Cancelled(Exception):
-    """Raised by :func:`texsynth.synthesize` when the caller cancels; nothing is returned."""
+    """Raised by :func:`texsynth.synthesize` when the caller cancels; nothing is returned.
+
+    Parameters
+    ----------
+    *args : object
+        The message, as for any exception (``"cancelled by the caller"``).
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Progress" (nothing half-made is returned).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> try:
+    ...     texsynth.synthesize(photo, 16, 16, progress=lambda fraction, message: False)
+    ... except texsynth.Cancelled as cancelled:
+    ...     print(cancelled)
+    cancelled by the caller
+    """
 
 
 class Progress:
@@ -18,6 +38,25 @@ class Progress:
 
     ``span(start, stop)`` gives a child whose 0..1 maps onto ``start..stop`` of this one, so a
     method can hand sub-steps their own scale (per channel, per level) without arithmetic.
+
+    Parameters
+    ----------
+    callback : callable(fraction, message), optional
+        Told the fraction done (0..1) and what is being done; None: nothing is reported.
+    start, stop : float
+        The part of the callback's 0..1 that this reporter's 0..1 covers.
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Progress" (fractions follow the time).
+
+    Examples
+    --------
+    >>> seen = []
+    >>> half = Progress(lambda fraction, message: seen.append((fraction, message)), 0.5, 1.0)
+    >>> half.span(0.0, 0.5)(0.5, "level 2")
+    >>> seen
+    [(0.625, 'level 2')]
     """
 
     def __init__(self, callback: Callable[[float, str], object] | None = None,

@@ -24,8 +24,37 @@ __all__ = ["Param", "Method", "register", "methods", "get_method"]
 class Param:
     """One typed parameter of a method.
 
-    ``type`` is ``int``, ``float``, ``bool`` or ``str``; a ``str`` parameter lists its allowed
-    values in ``choices``. ``min``/``max`` bound numbers (inclusive).
+    Parameters
+    ----------
+    name : str
+        The keyword it is passed by (snake_case).
+    type : type
+        ``int``, ``float``, ``bool`` or ``str``.
+    default : object
+        Its value when not given (validated when the record is made).
+    description : str
+        One line for the panel's tooltip and the command line's help.
+    min, max : float, optional
+        Inclusive bounds of a number.
+    choices : tuple of str
+        The allowed values of a ``str`` parameter.
+    label : str
+        The panel's label; default the name, capitalised, with spaces.
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Methods" (the panel and the operator properties are
+    generated from these records).
+
+    Examples
+    --------
+    >>> window = Param("window", int, 11, "Side of the window", min=3, max=41)
+    >>> window.label, window.validate(7.0)
+    ('Window', 7)
+    >>> window.validate(1)
+    Traceback (most recent call last):
+    ...
+    ValueError: parameter 'window' must be >= 3, got 1
     """
 
     name: str
@@ -74,14 +103,46 @@ class Param:
 class Method:
     """A synthesis algorithm.
 
-    ``function(exemplar, width, height, rng, progress, **params)`` receives a float32 array
-    (H, W, C), the output size, a seeded ``numpy.random.Generator`` and a
-    :class:`texsynth.progress.Progress`, and returns float32 (height, width, C) that tiles.
-    ``min_exemplar`` is the smallest exemplar side the method accepts;
-    ``memory(exemplar_shape, width, height, params)`` estimates the peak working bytes, checked
-    against the budget before anything is allocated; ``cost(exemplar_shape, width, height,
-    params)`` predicts the run time in seconds on the reference machine (``texsynth.budget``
-    scales it to this machine's speed and checks it against the time budget).
+    Parameters
+    ----------
+    name : str
+        snake_case, unique (Blender's enum is its upper case).
+    label, description : str
+        The panel's name for it and one line on what it is good for.
+    function : callable
+        ``function(exemplar, width, height, rng, progress, **params)`` receives a float32
+        array (H, W, C), the output size, a seeded ``numpy.random.Generator`` and a
+        :class:`texsynth.progress.Progress`, and returns float32 (height, width, C) that tiles.
+    params : tuple of Param
+        Its parameters, in panel order.
+    min_exemplar : int
+        The smallest exemplar side the method accepts.
+    memory : callable
+        ``memory(exemplar_shape, width, height, params)``: the peak working bytes, checked
+        against the budget before anything is allocated.
+    cost : callable
+        ``cost(exemplar_shape, width, height, params)``: the run time in seconds on the
+        reference machine (``texsynth.budget`` scales it to this machine and checks it against
+        the time budget).
+    positions : bool
+        The function returns ``(image, positions)``: int32 (height, width, 2) (row, col) into
+        the exemplar, the pixel each output pixel was copied from (see
+        ``texsynth.apply_positions``).
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Methods" and "The method contract"
+    (``tests/test_contract.py`` holds every registered method to it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> tile = Method("tile", "Tile", "Repeat the exemplar",
+    ...               lambda e, w, h, rng, progress: np.resize(e, (h, w, e.shape[2])))
+    >>> tile.memory((8, 8, 3), 16, 16, {})   # the default estimate: 64 bytes a value
+    49152.0
+    >>> tile.resolve({})
+    {}
     """
 
     name: str
@@ -132,12 +193,51 @@ def register(method: Method) -> Method:
 
 
 def methods() -> tuple[Method, ...]:
-    """Every registered method, in registration order (the panel's order)."""
+    """Every registered method, in registration order (the panel's order).
+
+    Returns
+    -------
+    tuple of Method
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, "Adding a method" (the order is ``texsynth/algorithms/__init__.py``'s).
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> [m.name for m in texsynth.methods()][:3]
+    ['heeger_bergen', 'efros_leung', 'multiscale_mrf']
+    """
     return tuple(_METHODS.values())
 
 
 def get_method(name: str) -> Method:
-    """The registered method called ``name``, or ``ValueError`` listing the available ones."""
+    """The registered method called ``name``, or ``ValueError`` listing the available ones.
+
+    Parameters
+    ----------
+    name : str
+        A method's ``name`` (see :func:`methods`).
+
+    Returns
+    -------
+    Method
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Methods".
+
+    Examples
+    --------
+    >>> import texsynth
+    >>> texsynth.get_method("efros_leung").positions
+    True
+    >>> texsynth.get_method("quilting")
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown method 'quilting'; available: heeger_bergen, ...
+    """
     try:
         return _METHODS[name]
     except KeyError:

@@ -562,10 +562,33 @@ def check(shape, *, band: int | None = None, seed: int = 0) -> tuple[int, int]:
 def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                             progress: Callable[[float, str], object] | None = None
                             ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`make_tileable` and its position map, int32 (H, W, 2) (row, col) into the photo:
-    where each pixel's piece came from (the kept pixels map to themselves).
+    """:func:`make_tileable` and its position map: where each pixel's piece came from.
+
     ``follow(positions, other_map, band=band)`` makes another map of the material tile the
     same way; ``texsynth.apply_positions`` gives the pieces before the band's correction.
+
+    Parameters
+    ----------
+    photo : array (H, W) or (H, W, C), C in 1, 3, 4
+        As for :func:`make_tileable`.
+    band : int, optional
+        Width in pixels of the band quilted across the wrap; default :func:`default_band`.
+    seed : int
+        Same inputs and seed give bit-identical output.
+    progress : callable(fraction, message), optional
+        As for ``texsynth.synthesize``; returning ``False`` cancels (``texsynth.Cancelled``).
+
+    Returns
+    -------
+    tile : numpy.ndarray
+        What :func:`make_tileable` returns.
+    positions : numpy.ndarray
+        int32 (H, W, 2), (row, col) into the photo (the kept pixels map to themselves).
+
+    References
+    ----------
+    Efros & Freeman 2001, 2.1 (the pieces and their cuts); Pérez, Gangnet & Blake 2003, 2-3
+    (the band's level correction, which ``follow`` repeats on the other map).
 
     Examples
     --------

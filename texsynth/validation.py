@@ -160,10 +160,27 @@ def memory_budget() -> int:
     Raises ``ValueError`` naming the variable when it is set to anything but a positive whole
     number of bytes (``1e9`` and ``4_000_000_000`` are whole; ``abc``, ``0``, ``1.5`` are not).
 
+    Returns
+    -------
+    int
+        Bytes; every method's ``memory`` estimate is checked against it before any work.
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Methods" (the memory estimate, checked against the
+    budget before any allocation).
+
     Examples
     --------
-    >>> memory_budget() > 0
-    True
+    >>> from unittest import mock
+    >>> with mock.patch.dict("os.environ", {"TEXSYNTH_MEMORY_BUDGET": "4e9"}):
+    ...     memory_budget()
+    4000000000
+    >>> with mock.patch.dict("os.environ", {"TEXSYNTH_MEMORY_BUDGET": "1.5"}):
+    ...     memory_budget()
+    Traceback (most recent call last):
+    ...
+    ValueError: TEXSYNTH_MEMORY_BUDGET...
     """
     return budget_variable("TEXSYNTH_MEMORY_BUDGET", DEFAULT_MEMORY, "a whole number of bytes",
                             whole=True)

@@ -73,6 +73,11 @@ Deviations, one line each:
   so the wrap is a straight boundary between two copies, rougher than 3/4 of the lines);
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
   component of an exemplar crop (which tiles; the crop's own wrap would be a seam).
+
+References
+----------
+De Bonet 1997; Forsyth & Ponce, section 11.3.3, Algorithm 11.5 and exercise 1;
+Ashikhmin 2001, section 3; Tong et al. 2002; Moisan 2011.
 """
 
 from __future__ import annotations
@@ -523,7 +528,48 @@ def tiled_subset(shape, points: int, tile: int = TILE) -> np.ndarray | None:
 
 def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, scales=4,
              orientations=4):
-    """Synthesize (height, width, C) from ``exemplar`` (H, W, C float32); see the module notes."""
+    """Synthesize (height, width, C) from ``exemplar``: each pyramid level copied, coarse to
+    fine, from exemplar locations whose parent structure is near the output's (see the module
+    notes).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    threshold : float
+        How far a parent structure may be from the output's, in typical nearest-neighbour
+        distances: 0 copies the exemplar, above about 1 structure dissolves (and matching
+        slows).
+    depth : int
+        Coarser levels in the parent structure.
+    scales : int
+        Pyramid levels (capped by exemplar and output sizes); the coarsest is copied, tiled.
+    orientations : int
+        Oriented subbands per level (K).
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (height, width, C), periodic, clipped to the exemplar's range.
+
+    References
+    ----------
+    Forsyth & Ponce, section 11.3.3, Algorithm 11.5 and exercise 1; De Bonet 1997;
+    Ashikhmin 2001, section 3 and Tong et al. 2002 (k-coherence at production sizes);
+    Moisan 2011 (the periodic component analysed).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((32, 32, 3), dtype=np.float32)
+    >>> out = texsynth.synthesize(photo, 32, 32, method="de_bonet", seed=1, scales=2, depth=1)
+    >>> out.shape, bool(photo.min() <= out.min() and out.max() <= photo.max())
+    ((32, 32, 3), True)
+    """
     levels = pyramid_depth(exemplar.shape, width, height, scales)
     pyr_exemplar = LaplacianPyramid(exemplar.shape[:2], levels)
     pyr_output = LaplacianPyramid((height, width), levels)

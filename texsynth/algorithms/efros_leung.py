@@ -35,6 +35,11 @@ Deviations, one line each:
   pixel waits, the threshold grows by 10 % and they are tried again;
 - a rounding tolerance (1e-5 of the terms' size) joins the (1 + epsilon) rule, so windows that
   match exactly are all candidates even when the best distance rounds to zero.
+
+References
+----------
+Efros & Leung 1999, section 2; Forsyth & Ponce, section 11.3.4, Algorithm 11.6;
+Torralba, Isola & Freeman, section 28.4.
 """
 
 from __future__ import annotations
@@ -66,7 +71,46 @@ SPACING = 2
 
 def efros_leung(exemplar, width, height, rng, progress, window=11, epsilon=0.1,
                 exemplar_tiles=False):
-    """Synthesize (height, width, C) and its position map; see the module notes."""
+    """Grow (height, width, C) on a torus pixel by pixel from the exemplar's best-matching
+    windows, with its position map (see the module notes).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    window : int
+        Side of the square neighbourhood compared (odd); larger keeps larger structures.
+    epsilon : float
+        Candidates are the windows within (1 + epsilon) of the best match.
+    exemplar_tiles : bool
+        The exemplar itself tiles: its windows may wrap around its edges.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 (height, width, C), periodic; every pixel an exemplar pixel.
+    positions : numpy.ndarray
+        int32 (height, width, 2), the (row, col) of the exemplar pixel each one shows.
+
+    References
+    ----------
+    Forsyth & Ponce, section 11.3.4, Algorithm 11.6; Efros & Leung 1999, section 2;
+    Torralba, Isola & Freeman, section 28.4 (the window size).
+
+    Examples
+    --------
+    Every output pixel is one of the exemplar's:
+
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> out = texsynth.synthesize(photo, 24, 20, method="efros_leung", seed=1, window=5)
+    >>> out.shape, set(map(tuple, out.reshape(-1, 3))) <= set(map(tuple, photo.reshape(-1, 3)))
+    ((20, 24, 3), True)
+    """
     h, w, c = exemplar.shape
     if not exemplar_tiles and min(h, w) < window:
         raise ValueError(f"the exemplar ({w} x {h}) is smaller than the {window} x {window} "

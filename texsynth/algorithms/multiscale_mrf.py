@@ -83,6 +83,12 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
   that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
   where that lowers their seam cost (``align_regions``: placed breadth first from the
   largest, then ``SWEEPS`` sweeps of single moves).
+
+References
+----------
+Neubeck et al. 2004, section 3.1 (eq. 1-3, fig. 9); Paget & Longstaff 1998;
+Ashikhmin 2001 (fig. 8); Tong et al. 2002; Wei & Levoy 2000, section 3; Pritch,
+Kav-Venaki & Peleg 2009, section 3; Kwatra et al. 2003, section 3.1.
 """
 
 from __future__ import annotations
@@ -232,7 +238,52 @@ class _Level:
 
 def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
                    random_candidates=2, levels=0, exemplar_tiles=False):
-    """Synthesize (height, width, C) and its position map; see the module notes."""
+    """Relax a position map on a multigrid, each pixel moving to the best of its neighbours'
+    continuations and random candidates, with confidences (see the module notes).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    radius : int
+        Radius r of the disk neighbourhood compared (pixels at each level).
+    visits : int
+        Visits T per pixel and level; confidence grows by 1/T a visit.
+    random_candidates : int
+        Random exemplar positions tried per visit besides the neighbours' continuations.
+    levels : int
+        Multigrid levels (capped by the exemplar and output sizes); 0: enough for the coarsest
+        neighbourhood to span the exemplar's texels.
+    exemplar_tiles : bool
+        The exemplar itself tiles: neighbourhoods may wrap around its edges.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 (height, width, C), periodic.
+    positions : numpy.ndarray
+        int32 (height, width, 2), the position map ``S``: ``image`` is the exemplar read at it.
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, section 3.1, eq. 1-3 (confidences and the distance);
+    Paget & Longstaff 1998 (the multiscale MRF); Ashikhmin 2001, fig. 8 (the candidates);
+    Tong et al. 2002 (k-coherence refinement); Wei & Levoy 2000, 3 (levels compared at their
+    scale); Pritch, Kav-Venaki & Peleg 2009, 3 and Kwatra et al. 2003, 3.1 (copies aligned).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> image, positions = texsynth.synthesize_positions(photo, 24, 20, method="multiscale_mrf",
+    ...                                                  seed=1)
+    >>> image.shape, np.array_equal(photo[positions[..., 0], positions[..., 1]], image)
+    ((20, 24, 3), True)
+    """
     h, w, c = exemplar.shape
     if min(h, w) < 2 * radius + 1:
         raise ValueError(f"the exemplar ({w} x {h}) is smaller than the neighbourhood "

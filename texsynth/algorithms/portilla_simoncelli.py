@@ -60,6 +60,10 @@ Deviations, one line each:
   transport towards the photo's joint colour distribution (Pitie et al. 2005;
   ``texsynth.blocks.color.sliced_transfer``), as texsynth's Heeger-Bergen ends, and are then
   projected back and clipped to the exemplar's per-channel range.
+
+References
+----------
+Portilla & Simoncelli 2000, sections 3-4; Vacher & Briand 2021.
 """
 
 from __future__ import annotations

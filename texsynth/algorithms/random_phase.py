@@ -31,6 +31,11 @@ The output is periodic by construction (an inverse DFT). Deviations, one line ea
   most 0.001, and the order of values, hence the shared phase's colour relations, is kept;
 - theta is drawn once, as the phase of the real FFT of a float32 uniform white noise (any white
   noise's phase is uniform; uniform samples are the generator's cheapest).
+
+References
+----------
+Galerne, Gousseau & Morel 2011 (random phase noise, its colour version, any size);
+Moisan 2011 (the periodic component).
 """
 
 from __future__ import annotations

@@ -87,6 +87,12 @@ Deviations, one line each:
   way where that joins its seams (``align_regions``), ours, after Pritch et al. 2009's shift-map;
 - after each level and patch size, boundaries straight for ``RUN`` pixels are re-cut within
   ``BAND`` pixels of their line (``recut_straight``), not every boundary by a graph cut.
+
+References
+----------
+Kwatra et al. 2005, section 3; Barnes et al. 2009; Kaspar et al. 2015, sections 4-5;
+Efros & Freeman 2001, section 2.1; Kwatra et al. 2003, section 3.1; Pritch, Kav-Venaki
+& Peleg 2009.
 """
 
 from __future__ import annotations
@@ -375,7 +381,54 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
 
 def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
                          sizes=2, iterations=3, uniformity=2.0):
-    """Synthesize (height, width, C) and its position map; see the module notes."""
+    """Minimise the texture energy of (height, width, C) by EM over PatchMatch's nearest exemplar
+    patches, coarse to fine, with its position map (see the module notes).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    levels : int
+        Resolution levels, coarse to fine (capped by the exemplar and output sizes); 0: enough
+        for the largest patch at the coarsest level to span the exemplar's texels.
+    patch_size : int
+        Smallest patch side (pixels); each level also runs the larger sizes first.
+    sizes : int
+        Patch sizes per level, each twice the next, large to small.
+    iterations : int
+        EM iterations per level and patch size.
+    uniformity : float
+        Weight lambda of the uniform patch usage term (0: off): higher repeats fewer favourite
+        patches.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        float32 (height, width, C), periodic; the last pass copies whole pixels.
+    positions : numpy.ndarray
+        int32 (height, width, 2), the (row, col) of the exemplar pixel each one shows.
+
+    References
+    ----------
+    Kwatra et al. 2005, section 3 (the texture energy, its EM); Barnes et al. 2009 (PatchMatch);
+    Kaspar et al. 2015, sections 4-5 (uniform patch usage, patch sizes, the non-averaged pass);
+    Efros & Freeman 2001, 2.1 and Kwatra et al. 2003, 3.1 (straight cuts re-cut); Pritch,
+    Kav-Venaki & Peleg 2009 (copies aligned).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((32, 32, 3), dtype=np.float32)
+    >>> image, positions = texsynth.synthesize_positions(photo, 32, 32,
+    ...                                                  method="texture_optimization", seed=1,
+    ...                                                  iterations=1)
+    >>> image.shape, np.array_equal(texsynth.apply_positions(positions, photo), image)
+    ((32, 32, 3), True)
+    """
     if min(exemplar.shape[:2]) < patch_size:
         raise ValueError(f"the exemplar ({exemplar.shape[1]} x {exemplar.shape[0]}) is smaller "
                          f"than the patch ({patch_size} x {patch_size}); use a smaller patch size "

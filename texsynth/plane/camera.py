@@ -34,11 +34,39 @@ def lens_from_focal_px(focal_px: float, sensor_mm: float, width: int, height: in
 def camera_pose(slant: float, tilt: float, distance: float, plane_matrix=None) -> np.ndarray:
     """4 x 4 camera-to-world matrix that sees a plane at ``slant`` and ``tilt`` (degrees).
 
-    The plane is the local XY plane of ``plane_matrix`` (4 x 4, world from plane; identity if
-    None) with normal +Z. The camera (Blender convention: looks along its -Z, +Y up) aims at the
-    plane's origin from ``distance``; the plane's +X and +Y axes appear in the picture as the
-    rectified image's x and y axes (see :func:`rectify`), so texturing the plane with the
-    rectified photo at default UVs reproduces the photo.
+    The camera (Blender convention: looks along its -Z, +Y up) aims at the plane's origin; the
+    plane's +X and +Y axes appear in the picture as the rectified image's x and y axes (see
+    :func:`rectify`), so texturing the plane with the rectified photo at default UVs
+    reproduces the photo.
+
+    Parameters
+    ----------
+    slant, tilt : float
+        Degrees, as in :class:`~texsynth.plane.fit.PlaneEstimate` (slant 0 to below 90).
+    distance : float
+        From the camera to the plane's origin, in world units (positive).
+    plane_matrix : array (4, 4), optional
+        World from plane: the plane is its local XY plane, normal +Z; identity if None.
+
+    Returns
+    -------
+    numpy.ndarray
+        float64 (4, 4), camera to world.
+
+    References
+    ----------
+    Forsyth & Ponce, section 11.4.1 (slant and tilt); docs/ARCHITECTURE.md, Conventions, "Plane
+    orientation".
+
+    Examples
+    --------
+    The camera sits ``distance`` from the plane's origin, its view axis ``slant`` from the
+    plane's normal.
+
+    >>> import numpy as np
+    >>> pose = camera_pose(30.0, 90.0, 2.0)
+    >>> float(np.linalg.norm(pose[:3, 3])), round(float(np.degrees(np.arccos(pose[2, 2]))), 6)
+    (2.0, 30.0)
     """
     slant = validation.finite(slant, "slant (degrees)")
     tilt = validation.finite(tilt, "tilt (degrees)")

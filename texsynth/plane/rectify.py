@@ -66,7 +66,7 @@ def _check_estimate(estimate) -> None:
 
 
 def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None) -> np.ndarray:
-    """Back-project ``image`` onto the plane: a frontal view of its texture (float32 (h, w, C)).
+    """Back-project ``image`` onto the plane: a frontal view of its texture.
 
     An affine map for an orthographic estimate, a homography for a perspective one. The output is
     the largest axis-aligned rectangle of the plane that the photo shows with texture (black
@@ -74,7 +74,33 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     twice (the far part of a receding plane holds little detail). Its resolution is isotropic at
     the image centre (one output pixel = one image pixel along the foreshortened direction); its
     x and y axes are the plane's, which :func:`camera_pose` puts on the plane object's X and Y.
-    ``size=(width, height)`` resamples the largest such rectangle of that aspect to that size.
+
+    Parameters
+    ----------
+    image : array (H, W) or (H, W, C), top row first
+        The photo the estimate was made from (or another map of it, of its size).
+    estimate : PlaneEstimate
+        From :func:`texsynth.estimate_plane` (or ``texsynth.plane.from_rectangle``).
+    size : (width, height), optional
+        Resample the largest such rectangle of that aspect to that size.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (h, w, C).
+
+    References
+    ----------
+    Forsyth & Ponce, section 11.4.1 (the plane's image under orthographic and perspective
+    projection, inverted here).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> noise = np.random.default_rng(0).random((96, 96), dtype=np.float32)
+    >>> frontal = rectify(noise, texsynth.estimate_plane(noise, method="isotropy"), size=(32, 16))
+    >>> frontal.shape, frontal.dtype
+    ((16, 32, 1), dtype('float32'))
     """
     _check_estimate(estimate)
     if size is not None:

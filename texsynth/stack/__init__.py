@@ -89,20 +89,43 @@ def synthesize_stack(
     ----------
     stack : array (V, H, W[, C]) or list of (H, W[, C]) images of one size
         Registered maps or views of one sample; channel counts may differ in a list.
+    width, height : int
+        Output size of every view.
     support : int
         Index of the support view, synthesized first with ``method``.
     method : str
         A method with position maps (``multiscale_mrf``, ``efros_leung``) for the support.
+    seed : int
+        Same inputs and seed give bit-identical output.
+    progress : callable(fraction, message), optional
+        As for :func:`texsynth.synthesize`; returning ``False`` cancels.
     mode : "guided" or "column"
         ``guided``: each other view synthesized with the section 3.2 distance (``multiscale_mrf``
         parameters among ``params`` apply to it); ``column``: the support's position map copied to
         every view.
     c : float
         Weight of the support term in the guided distance, 0 to 1.
+    **params
+        The support method's parameters.
 
     Returns
     -------
-    float32 (V, height, width, C) for an array stack, a list of (height, width, C_v) for a list.
+    numpy.ndarray or list
+        float32 (V, height, width, C) for an array stack, a list of (height, width, C_v) for a
+        list.
+
+    References
+    ----------
+    Neubeck, Zalesny & Van Gool 2004, section 3.2 (the guided distance, with the confidences
+    of eq. 1-2) and section 2.3 (whole columns copied: ``mode="column"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> colour = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> maps = synthesize_stack(np.stack([colour, 1 - colour]), 24, 24, mode="column")
+    >>> maps.shape, bool(np.allclose(maps[1], 1 - maps[0]))
+    ((2, 24, 24, 3), True)
     """
     if mode not in ("guided", "column"):
         raise ValueError(f"mode must be 'guided' or 'column', got {mode!r}")

@@ -29,6 +29,10 @@ Deviations, one line each:
 - an image of more than ``SAMPLE_PIXELS`` pixels: the centre, the sample graph's vertices and
   the class shares come from a regular sample of ``SAMPLE_PIXELS`` of its pixels (then every
   pixel is labelled).
+
+References
+----------
+Zalesny et al. 2002, section 3 (segmentation by clique partitioning of a sample graph).
 """
 
 from __future__ import annotations

@@ -14,6 +14,10 @@ Deviation (production sizes, multiresolution relaxation): an output of more than
 scales, the fine sweeps restore the fine-scale statistics, by proposals of one level's step or
 from the singleton target, each clipped to the range of the pixel's 8 neighbours
 (``model.synthesize_channel``: unbounded ones left isolated extreme pixels, salt and pepper).
+
+References
+----------
+Zalesny et al. 2002, section 2 (the pairwise clique model, clique-type selection).
 """
 
 from __future__ import annotations
@@ -50,7 +54,47 @@ REFINE_SWEEPS = 3
 
 def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
                  threshold=THRESHOLD, max_cliques=MAX_CLIQUES, levels=LEVELS, sweeps=SWEEPS):
-    """Fit the clique model of ``exemplar`` and synthesize (height, width, C) from it."""
+    """Fit the clique model of ``exemplar`` and synthesize (height, width, C) from it by
+    stochastic relaxation (see ``model.py``).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    max_offset : int
+        Longest clique type considered (pixels).
+    threshold : float
+        Stop adding clique types when the worst histogram distance is below this.
+    max_cliques : int
+        Most clique types per colour component.
+    levels : int
+        Grey levels of the strongest colour component.
+    sweeps : int
+        Relaxation sweeps over the output.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (height, width, C), periodic, within the exemplar's range.
+
+    References
+    ----------
+    Zalesny et al. 2002, section 2 (the pairwise clique model, clique-type selection steps
+    1-7, synthesis by relaxation).
+
+    Examples
+    --------
+    >>> import numpy as np, texsynth
+    >>> photo = np.random.default_rng(0).random((16, 16, 3), dtype=np.float32)
+    >>> out = texsynth.synthesize(photo, 24, 24, method="cooccurrence", seed=1, sweeps=2,
+    ...                           max_cliques=4)
+    >>> out.shape, bool(photo.min() <= out.min() and out.max() <= photo.max())
+    ((24, 24, 3), True)
+    """
     params = dict(max_offset=max_offset, threshold=threshold, max_cliques=max_cliques,
                   levels=levels)
     start = None
