@@ -5,6 +5,7 @@
 - the imports among texsynth/'s modules form no cycle (a package's ``__init__`` re-exporting its
   own submodules is not a cycle: those submodules never import it back);
 - the core never imports bpy;
+- imports run down the layers the page draws (``LAYERS``), sideways only where it names the case;
 - every method is registered from its own home under texsynth/algorithms/;
 - outside tests/, no module imports or reaches a private name (``_x``) of another of ours
   (the core, the operators, the benchmarks): a name another module uses is public in its home.
@@ -159,3 +160,64 @@ def test_no_private_names_across_modules():
     modules = {name(p): p for p in paths}
     uses = [u for n, p in sorted(modules.items()) for u in _private_uses(n, p, modules)]
     assert not uses, "\n".join(uses)
+
+
+#: The layers docs/ARCHITECTURE.md draws, lowest first: a unit (a top-level module, a package,
+#: or one method's home under algorithms/) imports only units of lower layers.
+LAYERS = (
+    ("registry", "progress", "validation", "positions"),
+    ("blocks",),
+    ("io", "budget", "metrics"),
+    ("api", "algorithms.heeger_bergen", "algorithms.portilla_simoncelli",
+     "algorithms.random_phase", "algorithms.efros_leung", "algorithms.multiscale_mrf",
+     "algorithms.de_bonet", "algorithms.texture_optimization", "algorithms.cooccurrence",
+     "algorithms.composite"),
+    ("algorithms", "stack", "plane", "tileable", "norepeat"),
+    ("material",),
+    ("jobs",),
+    ("batch",),
+    ("cli",),
+    ("__main__", ""),
+)
+
+#: Imports within one layer that the page names, each with its reason.
+SIDEWAYS = {
+    ("algorithms.composite", "api"): "the composite's fill is any method, through synthesize()",
+    ("algorithms.composite", "algorithms.cooccurrence"): "its layout and subtextures are "
+                                                         "clique models (Zalesny et al. 2002, 3)",
+}
+
+
+def _unit(module: str) -> str:
+    parts = module.split(".")[1:]
+    return ".".join(parts[:2] if parts[:1] == ["algorithms"] else parts[:1])
+
+
+def _layer_violations(found) -> list[str]:
+    layer = {unit: i for i, units in enumerate(LAYERS) for unit in units}
+    wrong = []
+    for module, target, _, line in found:
+        if target.split(".")[0] != "texsynth":
+            continue
+        a, b = _unit(module), _unit(target)
+        if a not in layer or b not in layer:
+            wrong.append(f"{module}:{line}: {a or b!r} has no layer in LAYERS (add it there and "
+                         "to docs/ARCHITECTURE.md)")
+        elif a != b and layer[b] >= layer[a] and (a, b) not in SIDEWAYS:
+            wrong.append(f"{module}:{line} imports {target}: layer {layer[a]} ({a}) reaches "
+                         f"layer {layer[b]} ({b})")
+    return wrong
+
+
+def test_imports_follow_the_layers():
+    _, found = _imports()
+    wrong = _layer_violations(found)
+    assert not wrong, "\n".join(wrong)
+
+
+def test_the_layer_check_sees_an_arrow_back_up():
+    wrong = _layer_violations([("texsynth.blocks.color", "texsynth.api", False, 1),
+                               ("texsynth.algorithms.de_bonet", "texsynth.algorithms.efros_leung",
+                                False, 2),
+                               ("texsynth.api", "texsynth.api", False, 3)])
+    assert len(wrong) == 2 and "blocks" in wrong[0] and "efros_leung" in wrong[1]
