@@ -2,16 +2,27 @@
 
 ``--quick`` writes build/benchmarks-quick/ instead, so it never replaces the committed figures.
 
-``--only`` runs the named sections (module names) and keeps the others from the existing file.
+``--only`` runs the named sections (module names) and keeps the others from the existing file;
+``--only`` with no name runs none and rewrites the README's blocks alone.
+
+Then the figures of README.md and the docs/ pages are written from docs/BENCHMARKS.md: between
+``<!-- benchmark:SECTION TABLE [COLUMN | COLUMN ...] [; COLUMN = VALUE] -->`` and
+``<!-- /benchmark -->`` goes the TABLE-th table (from 1) of the section that the module
+``benchmarks/sections/SECTION.py`` writes, with the named columns only (all when none are named),
+the rows whose COLUMN reads VALUE only (all without it), and a line naming the section and when it
+ran (links are to docs/BENCHMARKS.md from the page's folder). Nothing else in README.md and the
+user's pages is a measured figure (tests/test_docs.py holds it).
 """
 
 from __future__ import annotations
 
 import argparse
+import ast
 import importlib
 import os
 import pkgutil
 import platform
+import re
 import shutil
 import subprocess
 import sys
@@ -24,6 +35,7 @@ import scipy
 from .context import REPO, SHARED_TEXTURES, Context
 
 DOCS = REPO / "docs"
+README = REPO / "README.md"
 QUICK_DOCS = REPO / "build" / "benchmarks-quick"
 REQUIREMENTS = Path(__file__).with_name("requirements.txt")
 
@@ -127,6 +139,13 @@ def main() -> None:
     footer = f"*Whole run: {minutes:.1f} min.*" if args.only is None else ""
     out.write_text(_document(parts, _kept(out, args.only), done) + footer + "\n")
     print(f"wrote {out}")
+    if not args.quick:
+        for page in pages():
+            text = page.read_text()
+            filled = fill_blocks(text, out.read_text(), page.relative_to(REPO))
+            if filled != text:
+                page.write_text(filled)
+                print(f"wrote the benchmark blocks of {page}")
 
 
 def _kept(out: Path, only) -> dict[str, str]:
@@ -150,6 +169,88 @@ def _document(header: list[str], kept: dict[str, str], done: dict[str, str]) -> 
     titles = [m.TITLE for m in sections()]
     body = [done.get(t) or kept.get(t) for t in titles]
     return "\n".join(header) + "\n" + "\n".join(b for b in body if b) + "\n"
+
+
+#: A README block: its opening marker (section module, table number, columns), body, closing marker.
+BLOCK = re.compile(r"(<!-- benchmark:(\w+) (\d+)([^\n]*?) -->\n)(.*?)(<!-- /benchmark -->)",
+                   re.S)
+
+
+def pages() -> list[Path]:
+    """The pages that may hold benchmark blocks: README.md and docs/ but BENCHMARKS.md."""
+    return [README, *sorted(p for p in DOCS.glob("*.md") if p.name != "BENCHMARKS.md")]
+
+
+def fill_blocks(page: str, benchmarks: str, where: Path = Path("README.md")) -> str:
+    """``page`` (at ``where`` in the repository) with every benchmark block rewritten from
+    ``benchmarks``, the text of docs/BENCHMARKS.md."""
+    titles = _titles()
+    found = _sections_of(benchmarks)
+
+    def block(match: re.Match) -> str:
+        opening, name, number, columns, _, closing = match.groups()
+        if name not in titles:
+            raise SystemExit(f"{where}: no benchmark section module {name!r}")
+        title = titles[name]
+        text = found.get(title)
+        if text is None:
+            return f"{opening}*Not measured yet: `python -m benchmarks --only {name}`.*\n{closing}"
+        tables = _tables(text)
+        if not 1 <= int(number) <= len(tables):
+            raise SystemExit(f"{where}: section {name!r} has {len(tables)} tables, "
+                             f"not {number}")
+        columns, _, row = columns.partition(";")
+        table = _columns(tables[int(number) - 1], [c.strip() for c in columns.split("|")
+                                                    if c.strip()], row, f"{where}: {name}")
+        ran = re.search(r"finished (\d{4}-\d\d-\d\d)", text)
+        link = "BENCHMARKS.md" if where.parts[:1] == ("docs",) else "docs/BENCHMARKS.md"
+        source = (f"*Written by `python -m benchmarks` from [docs/BENCHMARKS.md]({link}), "
+                  f"\"{title}\"{f', run {ran[1]}' if ran else ''}.*")
+        return f"{opening}{table}\n\n{source}\n{closing}"
+
+    return BLOCK.sub(block, page)
+
+
+def _titles() -> dict[str, str]:
+    """Each section module's ``TITLE``, by module name, read from its source (nothing of a
+    section is imported: its peers need not be installed to write a page)."""
+    titles = {}
+    for path in sorted(Path(__file__).with_name("sections").glob("[!_]*.py")):
+        for node in ast.parse(path.read_text()).body:
+            if (isinstance(node, ast.Assign) and len(node.targets) == 1
+                    and getattr(node.targets[0], "id", None) == "TITLE"):
+                titles[path.stem] = ast.literal_eval(node.value)
+    return titles
+
+
+def _tables(section: str) -> list[list[list[str]]]:
+    """The Markdown tables of a section, each a list of rows of cells (the rule row left out)."""
+    tables, rows = [], []
+    for line in section.splitlines() + [""]:
+        if line.startswith("|"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if not all(set(c) <= set("-: ") for c in cells):
+                rows.append(cells)
+        elif rows:
+            tables.append(rows)
+            rows = []
+    return tables
+
+
+def _columns(rows: list[list[str]], names: list[str], row: str, section: str) -> str:
+    """The table with the named columns only, in that order, and with ``row`` ("COLUMN =
+    VALUE") the rows that read VALUE there only, as Markdown."""
+    header = rows[0]
+    column, _, value = (part.strip() for part in row.partition("="))
+    missing = [n for n in [*names, *([column] if column else [])] if n not in header]
+    if missing:
+        raise SystemExit(f"{section}: the table has no column {missing}; "
+                         f"it has {header}")
+    keep = [header.index(n) for n in names] if names else range(len(header))
+    rows = [rows[0], *(r for r in rows[1:] if not column or r[header.index(column)] == value)]
+    picked = [[r[i] if i < len(r) else "" for i in keep] for r in rows]
+    lines = ["| " + " | ".join(row) + " |" for row in picked]
+    return "\n".join([lines[0], "|" + "---|" * len(keep), *lines[1:]])
 
 
 if __name__ == "__main__":
