@@ -2,8 +2,8 @@
 
 ``--quick`` writes build/benchmarks-quick/ instead, so it never replaces the committed figures.
 
-``--only`` runs the named sections (module names) and keeps the others from the existing file;
-``--only`` with no name runs none and rewrites the README's blocks alone.
+``--only`` runs the named sections (module names) and keeps the others from the existing file.
+``--pages`` runs nothing and rewrites the README's and the docs pages' blocks alone.
 
 Then the figures of README.md and the docs/ pages are written from docs/BENCHMARKS.md: between
 ``<!-- benchmark:SECTION TABLE [COLUMN | COLUMN ...] [; COLUMN = VALUE] -->`` and
@@ -96,7 +96,11 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="a small subset, for development")
     parser.add_argument("--only", nargs="*", default=None, help="section module names to run")
     parser.add_argument("--no-install", action="store_true", help="do not pip/apt install peers")
+    parser.add_argument("--pages", action="store_true",
+                        help="run nothing: rewrite the benchmark blocks of README.md and docs/")
     args = parser.parse_args()
+    if args.pages:
+        return write_pages(DOCS / "BENCHMARKS.md")
     if not args.no_install:
         install_peers()
     docs = QUICK_DOCS if args.quick else DOCS  # a quick run never replaces the committed figures
@@ -140,12 +144,7 @@ def main() -> None:
     out.write_text(_document(parts, _kept(out, args.only), done) + footer + "\n")
     print(f"wrote {out}")
     if not args.quick:
-        for page in pages():
-            text = page.read_text()
-            filled = fill_blocks(text, out.read_text(), page.relative_to(REPO))
-            if filled != text:
-                page.write_text(filled)
-                print(f"wrote the benchmark blocks of {page}")
+        write_pages(out)
 
 
 def _kept(out: Path, only) -> dict[str, str]:
@@ -174,6 +173,16 @@ def _document(header: list[str], kept: dict[str, str], done: dict[str, str]) -> 
 #: A README block: its opening marker (section module, table number, columns), body, closing marker.
 BLOCK = re.compile(r"(<!-- benchmark:(\w+) (\d+)([^\n]*?) -->\n)(.*?)(<!-- /benchmark -->)",
                    re.S)
+
+
+def write_pages(benchmarks: Path) -> None:
+    """Rewrite the benchmark blocks of every page from ``benchmarks`` (docs/BENCHMARKS.md)."""
+    for page in pages():
+        text = page.read_text()
+        filled = fill_blocks(text, benchmarks.read_text(), page.relative_to(REPO))
+        if filled != text:
+            page.write_text(filled)
+            print(f"wrote the benchmark blocks of {page}")
 
 
 def pages() -> list[Path]:

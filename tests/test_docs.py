@@ -51,7 +51,7 @@ def test_blocks_are_what_the_benchmark_command_writes(page):
     text = (REPO / page).read_text()
     written = fill_blocks(text, (REPO / "docs" / "BENCHMARKS.md").read_text(), Path(page))
     assert text == written, (f"{page}: a benchmark block differs from docs/BENCHMARKS.md; run "
-                             "`python -m benchmarks --only --no-install` to rewrite the blocks")
+                             "`python -m benchmarks --pages` to rewrite the blocks")
 
 
 def test_the_rule_sees_typed_figures_and_lets_the_rest_pass():
