@@ -92,7 +92,7 @@ import numpy as np
 from scipy import ndimage
 
 from . import budget, metrics, validation
-from .blocks import poisson
+from .blocks import poisson, rhythm
 from .blocks.joints import luma
 from .blocks.quilting import Search, block_means, min_error_path
 from .progress import Progress
@@ -129,6 +129,10 @@ MIN_INNER = 8
 #: A photo already tiles when its wrap reads as its own lines: the seam ratio in phase within
 #: 1 +- TILES (``metrics.seam_ratio_in_phase``; a photo's interior crosses read 0.85-1.2).
 TILES = 0.1
+#: Where the photo has courses across an arm (``texsynth.blocks.rhythm``), the patches' rows
+#: are a whole number of periods from the lines they continue, within this share of a period;
+#: the row means are read on every k-th column, about RHYTHM_SIDE of them.
+PHASE, RHYTHM_SIDE = 1 / 8, 1024
 
 
 def tiles(photo: np.ndarray) -> bool:
@@ -218,8 +222,11 @@ class _Source:
     for the patch that fits a template, and a patch's pixels and photo positions."""
 
     def __init__(self, image: np.ndarray, contrast: np.ndarray | None,
-                 coarse: np.ndarray | None, f: int, e: int, swap: bool):
+                 coarse: np.ndarray | None, f: int, e: int, swap: bool,
+                 period: int | None = None):
         self.image, self.f, self.e, self.swap = image, f, e, swap
+        # The courses' period across the arm (``texsynth.blocks.rhythm``), None without one.
+        self.period, self.across = period, image.shape[0] + 2 * e
         # Searched at full resolution (f == 1): the photo's contrast (:func:`_contrast`), as
         # the photo is (templates read it at their pixels' positions), and as this source is.
         self.contrast, self.own = contrast, None
@@ -241,12 +248,25 @@ class _Source:
             out |= (np.abs(y - uy) * 2 < min(ph, uh)) & (np.abs(x - ux) * 2 < min(pw, uw))
         return out
 
-    def choose(self, template, at, mask, rng, used) -> tuple[int, int]:
+    def _out_of_phase(self, shape, origin) -> np.ndarray:
+        """Placements (on the search's grid) whose rows are not a whole number of course
+        periods (within ``PHASE``, at least a block) from the photo lines ``origin``
+        onwards that the patch continues: all False without a period."""
+        out = np.zeros(shape, bool)
+        if self.period is None:
+            return out
+        r = (np.arange(shape[0]) * self.f + self.e - origin) % self.period
+        off = np.minimum(r, self.period - r)
+        out[off > max(self.f, PHASE * self.period)] = True
+        return out
+
+    def choose(self, template, at, mask, rng, used, origin=0) -> tuple[int, int]:
         """The patch origin, in this source's coordinates, for ``template`` (its pixels from
         the photo positions ``at``) weighted by ``mask``: the ``CANDIDATES`` best placements
         on the search's grid (apart from each other, none more than half covered by a
-        ``used`` window) refined at full resolution, then one of those within the tolerance
-        of the best, at random. Matched with the colours: the local contrast (on the search's
+        ``used`` window, in phase with the courses across the arm from the photo line
+        ``origin`` that its first row continues, where they have a period) refined at full
+        resolution, then one of those within the tolerance of the best, at random. Matched with the colours: the local contrast (on the search's
         grid, ``_coarse``; at full resolution, ``_contrast``, where the search is there)."""
         ph, pw = mask.shape
         f = self.f
@@ -260,6 +280,9 @@ class _Source:
         excluded = self._excluded(ssd.shape, ph, pw, used)
         if excluded.all():
             excluded[:] = False
+        phase = excluded | self._out_of_phase(ssd.shape, origin)
+        if not phase.all():
+            excluded = phase
         ssd[excluded] = np.inf
         h, w = self.image.shape[:2]
         found, prepared = [], None
@@ -333,10 +356,12 @@ def _unlike(photo: np.ndarray, rows: np.ndarray, b: int, channels: bool = False)
     return far.all(axis=1) if channels else far.any(axis=2).all(axis=1)
 
 
-def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used):
+def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, report, used,
+           origin):
     """One row of patches quilted along the arm over rows ``lo .. hi - 1`` of ``current``
     (side, length, C): each patch matched to ``current`` on the rows ``matched`` and to its
-    neighbours in the overlaps, cut against them (the error counted on the rows ``counted``).
+    neighbours in the overlaps, cut against them (the error counted on the rows ``counted``);
+    in phase with the courses from the photo line ``origin`` (row ``lo``'s, as continued).
     Returns the layer (hi - lo, length, C) and its positions."""
     length = current.shape[1]
     strip, at = current[lo:hi].copy(), current_at[lo:hi].copy()
@@ -358,7 +383,7 @@ def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, repo
             mask[:, :ov] = 1
         if after:
             mask[:, -ov:] = 1
-        y, x = source.choose(template, at[:, cols], mask, rng, used)
+        y, x = source.choose(template, at[:, cols], mask, rng, used, origin)
         used.append(source.window(y, x, ph, pw))
         patch, where = source.patch(y, x, ph, pw)
         # Efros & Freeman 2.1: the cuts through the overlaps with the neighbours.
@@ -401,14 +426,14 @@ def _arm(kept, kept_at, unlike, source, lay, rng, report, used):
     first, first_at = _layer(kept, kept_at, 0, seam + d,
                              (rows < inner)[:seam + d] & ~unlike[:seam + d],
                              rows[:seam + d] >= lay.m, source, lay, rng, report.span(0, 0.5),
-                             used)
+                             used, source.across - seam)
     current, current_at = kept.copy(), kept_at.copy()
     current[:seam + d], current_at[:seam + d] = first, first_at
     below = rows[seam - d:]
     second, second_at = _layer(current, current_at, seam - d, side,
                                (below < seam + d) | ((below >= outer) & ~unlike[seam - d:]),
                                below < lay.m + lay.b,
-                               source, lay, rng, report.span(0.5, 0.95), used)
+                               source, lay, rng, report.span(0.5, 0.95), used, -d)
     current[seam - d:], current_at[seam - d:] = second, second_at
     # The cuts with the photo keep none of its unlike rows: the photo is kept on the rows before
     # the top cut (after the bottom one), so the cut may not pass below (above) one of them.
@@ -624,7 +649,8 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     # the band is rows m .. m + b - 1.
     band_rows = slice(lay.m, lay.m + band)
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
-    across = _Source(inside, contrast, coarse, lay.f, e, swap=False)
+    across = _Source(inside, contrast, coarse, lay.f, e, swap=False,
+                     period=rhythm.course_period(a[:, ::max(1, w // RHYTHM_SIDE)]))
     strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
                      report.span(0.02, 0.45), used)
     out[rows[band_rows]] = strip[band_rows]
