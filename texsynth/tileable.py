@@ -70,6 +70,14 @@ Deviations, one line each:
   left of the crossing, fitted before those right of it, cut off a joint of the kept photo
   there), and bottom to top made the generated brick wall's wrap read 0.76-0.80 in phase in
   2 of 6 seeds;
+- where the photo has courses down its rows (``texsynth.blocks.rhythm``: a period of its row
+  means), the horizontal arm's patches are taken a whole number of periods (within
+  ``PHASE``) from the rows they continue (copies in phase with the lattice, Liu, Collins &
+  Tsin 2004): matched on a quarter band of rows, a patch out of phase left
+  out the bed joint the rows below them hold (the concrete pavers' centre 512: two courses
+  merged into one paver at the wrap); the vertical arm's column means (a running bond's half
+  brick) are no lattice step, and phased they broke the test bricks' wrap (0.80 in phase);
+  without courses (gravel, a mixture, noise) the patches are chosen as before;
 - no blending of the pieces: the cuts and the correction stay within the band, so every pixel
   farther than ``band / 2`` from the photo's edges is unchanged;
 - the correction covers the whole cross, the photo's own pixels within the band included (Pérez
@@ -266,8 +274,9 @@ class _Source:
         on the search's grid (apart from each other, none more than half covered by a
         ``used`` window, in phase with the courses across the arm from the photo line
         ``origin`` that its first row continues, where they have a period) refined at full
-        resolution, then one of those within the tolerance of the best, at random. Matched with the colours: the local contrast (on the search's
-        grid, ``_coarse``; at full resolution, ``_contrast``, where the search is there)."""
+        resolution, then one of those within the tolerance of the best, at random. Matched
+        with the colours: the local contrast (on the search's grid, ``_coarse``; at full
+        resolution, ``_contrast``, where the search is there)."""
         ph, pw = mask.shape
         f = self.f
         if f > 1:

@@ -6,15 +6,16 @@ luminance averaged along each row) a periodic profile, whatever the bond does al
 The period is read from the profile's autocorrelation (Wiener-Khinchin, as
 ``texsynth.blocks.period``; Liu, Collins & Tsin 2004 find a lattice as the autocorrelation's
 peaks): at a lag ``k`` that is a local maximum, the repeat's strength is the least of the
-correlations at ``k`` and ``2k`` (a period seen three times, as Substance Sampler's Auto Tiling
-asks), and the period is the shortest lag within ``NEAR`` of the strongest repeat. A profile
-whose strongest repeat is under ``LEVEL`` has no rhythm (gravel, sand, a mixture, noise:
-their row means repeat nothing).
+correlations at ``k`` and ``2k`` (a period seen at least four times: Substance Sampler's Auto
+Tiling asks three), and the period is the shortest lag within ``NEAR`` of the strongest
+repeat. A profile whose strongest repeat is under ``LEVEL`` has no rhythm (gravel, sand, a
+mixture, noise: their row means repeat nothing).
 
 Deviations, one line each: one direction at a time, the rows' period alone (not the 2-D
 lattice of Liu et al.: the band across a wrap needs only the period across it); the profile's
 linear trend is removed first (a photo lit from one side); the correlation at each lag is
-normalised by the pairs it sums (unbiased), lags up to a third of the profile.
+normalised by the pairs it sums (unbiased), lags up to a quarter of the profile (at a third,
+the caustics of a 120-pixel crop of pool water read as courses).
 """
 
 from __future__ import annotations
