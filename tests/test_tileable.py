@@ -9,9 +9,11 @@ import pytest
 from scipy.ndimage import gaussian_filter
 
 import texsynth
+from texsynth.blocks.joints import Joints
 from texsynth.io import read_photo
 from texsynth.metrics import (
     band_sharpness,
+    dead_ends,
     gradient_ratio,
     mean_gradient,
     seam_ratio,
@@ -228,6 +230,21 @@ def test_the_same_wall_cut_from_a_larger_one_is_made_to_tile():
     assert seam_ratio_in_phase(photo) > 1.5
     out = texsynth.make_tileable(photo, seed=3)
     assert not np.array_equal(out, photo)
+    assert 0.8 <= seam_ratio_in_phase(out) <= 1.2
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_wall_cut_out_of_phase_keeps_whole_bricks_across_the_wrap(seed):
+    """Courses of 24 px, the photo 200 px high: the band's patches are taken in phase with the
+    courses (``blocks.rhythm``), so no joint stops inside a brick where the arms cross (out of
+    phase: 1-3 dead ends on seeds 0-3)."""
+    wall = running_bond((300, 332), 0, course=24, brick=64, joint=3, tint=(0.9, 0.5, 0.4),
+                        shade=(0.5, 0.3), grain=0.1, mortar=(0.15, 0.15, 0.15), speckle=0.04)[0]
+    photo = np.ascontiguousarray(wall[5:205, 3:235])
+    joints = Joints.fit(photo, 1.5)
+    assert dead_ends(photo, joints, wrap=False) == 0
+    out = texsynth.make_tileable(photo, seed=seed)
+    assert dead_ends(out, joints, wrap=True) == 0
     assert 0.8 <= seam_ratio_in_phase(out) <= 1.2
 
 
