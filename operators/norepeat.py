@@ -63,8 +63,11 @@ TURNS = [("AUTO", "Photo's Symmetry", "Half turns, or quarter turns for a photo 
           "and no light direction (turns courses, layers and shadows every way)"),
          ("NONE", "None", "Offsets only")]
 TURN_COUNTS = {"HALF": 2, "QUARTER": 4, "ANY": 0, "NONE": 1}
-#: The hint under the buttons: which mode suits which photo.
-HINT = "Gravel, grass: Tiling and Blending; bricks, setts: Tile Set; rock: Hex Tiling"
+#: The hint under the buttons: which mode suits which photo. Bricks and setts: Tile Set, the
+#: one mode that keeps them whole (no blend; its diamonds and tile middles placed in phase
+#: with the courses); the other two offset copies freely and blend or cut across joints.
+HINT = "Bricks, setts, tiles: Tile Set (keeps them whole); gravel, grass: Tiling and " \
+    "Blending; rock: Hex Tiling"
 #: The image made per map: the Gaussianised texture (name suffix; the table is a curve node).
 SUFFIXES = ("tnb_gaussian",)
 GAP = 300.0  # the new node's place below its source node

@@ -160,7 +160,7 @@ def run(ctx) -> str:
         "Correlation: the rendered luminance's correlation coefficient with itself "
         "shifted by one tile (mean of x and y). Peak: `texsynth.metrics.repetition_peak`, the "
         "rendered luminance autocorrelation's largest peak at EVERY shift of 24 px or more "
-        "(a repeat at a Tile Set's cell, a third of a tile, shows here and not at the tile), "
+        "(a repeat at a Tile Set's cell, about half a photo tile, shows here and not at the tile), "
         "plain -> after, and in brackets the photo's own at the same distance on the surface "
         f"(goal: at most {GOALS['corr']}, where the photo's own is below that; a brick wall's "
         "courses are its own repeat). Anisotropy: the after render's structure-tensor "

@@ -3,7 +3,7 @@
 Forsyth & Ponce, section 11.3.3, Algorithm 11.5 and exercise 1 (after De Bonet, SIGGRAPH 1997).
 
     Make a pyramid pe of the exemplar and an empty pyramid pw of the output size.
-    Copy pe's coarsest level into pw (from a random offset).
+    Copy pe's coarsest level into pw (tiled from a random offset when pw is larger).
     For each finer level l, coarse to fine, for each location x of pw's level l:
         its parent structure is the vector of pw's values at x's position in the coarser
         levels l+1 .. l+depth;
@@ -71,13 +71,6 @@ Deviations, one line each:
   by its periodic component (Moisan): the crop's wrap would be a seam, and coherent sampling
   would carry it down (it still does in part: the finer levels copy the photo nearly as it is,
   so the wrap is a straight boundary between two copies, rougher than 3/4 of the lines);
-- where the output's coarsest level is larger than the exemplar's (an output larger than the
-  photo), it is not the exemplar's tiled, which repeated on a grid of the photo's size at
-  every level (1024 -> 2048: plants and stone rows on a 2 x 2 grid; the finer levels follow
-  their parents): random phase noise of the exemplar's coarsest level at the output's size
-  (Galerne, Gousseau & Morel 2011), each location then copying the exemplar location of the
-  nearest coarsest value (a kd-tree), so that every level below is sampled from parents that
-  repeat nowhere;
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
   component of an exemplar crop (which tiles; the crop's own wrap would be a seam).
 """
@@ -93,7 +86,6 @@ from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
 from ..registry import Method, Param, register
-from .random_phase import random_phase
 
 __all__ = [
     "de_bonet",
@@ -102,7 +94,6 @@ __all__ = [
     "parent_structure",
     "ParentSpace",
     "coherent_candidates",
-    "coarsest_sources",
     "sample_pyramid",
     "BallSampler",
     "tiled_subset",
@@ -438,61 +429,19 @@ def coherent_candidates(parent_sources, ex_shapes, shape, rows) -> np.ndarray:
 def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     """Source maps of Algorithm 11.5: per level an (h_l, w_l) int32 array of flat exemplar
     locations. ``features[l]`` are the exemplar's (h_l, w_l, F_l) values; ``out_shapes[l]`` the
-    output's level shapes. The coarsest level is the exemplar's from a random offset, or
-    :func:`coarsest_sources` where the output's is the larger."""
+    output's level shapes. The coarsest level is the exemplar's, tiled from a random offset."""
     top = len(features) - 1
     ex_shapes = [f.shape[:2] for f in features]
     sources = [None] * (top + 1)
 
     hs, ws = ex_shapes[top]
-    if out_shapes[top][0] > hs or out_shapes[top][1] > ws:
-        sources[top] = coarsest_sources(features[top], out_shapes[top], rng)
-    else:
-        sources[top] = _copied(features, out_shapes[top], rng)
-    return _sample_levels(features, ex_shapes, out_shapes, sources, threshold, depth, rng,
-                          progress)
-
-
-def coarsest_sources(coarsest, shape, rng) -> np.ndarray:
-    """The (h, w) flat locations of the exemplar's ``coarsest`` level (H, W, F) that an
-    output's coarsest level of ``shape``, larger than it, copies: random phase noise of it at
-    ``shape`` (values and spectrum modulus of its periodic component), each location then the
-    one of the nearest value.
-
-    References
-    ----------
-    Galerne, Gousseau & Morel 2011 (random phase noise at any size).
-
-    Examples
-    --------
-    >>> level = np.random.default_rng(0).random((8, 8, 3)).astype(np.float32)
-    >>> src = coarsest_sources(level, (16, 16), np.random.default_rng(1))
-    >>> src.shape, src.dtype, int(src.max()) < 64
-    ((16, 16), dtype('int32'), True)
-    """
-    noise = random_phase(np.ascontiguousarray(coarsest, np.float32), shape[1], shape[0], rng,
-                         lambda *_: None)
-    f = coarsest.shape[2]
-    _, nearest = cKDTree(coarsest.reshape(-1, f)).query(noise.reshape(-1, f))
-    return nearest.reshape(shape).astype(np.int32)
-
-
-def _copied(features, shape, rng) -> np.ndarray:
-    """The coarsest level's sources: the exemplar's, cropped from a random offset (see
-    :func:`_offset`)."""
-    top = len(features) - 1
-    hs, ws = features[top].shape[:2]
-    oy = _offset(features[top], shape[0], rng, features[:top])
-    ox = _offset(features[top].transpose(1, 0, 2), shape[1], rng,
+    oy = _offset(features[top], out_shapes[top][0], rng, features[:top])
+    ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng,
                  [g.transpose(1, 0, 2) for g in features[:top]])
-    ys = (np.arange(shape[0]) + oy) % hs
-    xs = (np.arange(shape[1]) + ox) % ws
-    return (ys[:, None] * ws + xs[None, :]).astype(np.int32)
+    ys = (np.arange(out_shapes[top][0]) + oy) % hs
+    xs = (np.arange(out_shapes[top][1]) + ox) % ws
+    sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
 
-
-def _sample_levels(features, ex_shapes, out_shapes, sources, threshold, depth, rng, progress):
-    """Algorithm 11.5's loop: each finer level's sources from its parents'."""
-    top = len(features) - 1
     scale = {}
     ends = np.cumsum([0.0] + level_work(ex_shapes, out_shapes)[::-1])
     ends /= max(ends[-1], 1.0)                    # no level to sample: no shares
@@ -672,8 +621,7 @@ METHOD = register(Method(
               "structure dissolves (and matching slows)", 0.0, 2.0),
         Param("depth", int, 3, "Coarser levels in the parent structure", 1, 8),
         Param("scales", int, 4, "Pyramid levels (capped by exemplar and output sizes); the "
-              "coarsest is copied (random phase noise of it for an output larger than the "
-              "photo)", 1, 8),
+              "coarsest is copied, tiled", 1, 8),
         Param("orientations", int, 4, "Oriented subbands per level (K)", 1, 8),
     ),
     min_exemplar=16,
