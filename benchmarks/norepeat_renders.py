@@ -22,7 +22,7 @@ import numpy as np
 from benchmarks.cycles import cpu_scene
 from texsynth.io import read_png
 from texsynth.metrics import luminance, mean_gradient
-from texsynth.norepeat import period_correlation
+from texsynth.norepeat import anisotropy, period_correlation, repetition_peak
 
 REPO = Path(__file__).resolve().parent.parent
 PACKAGE = "texsynth_extension"
@@ -132,10 +132,13 @@ def wasserstein(a: np.ndarray, b: np.ndarray, quantiles: int = 512) -> list[floa
 
 def measures(plain: np.ndarray, after: np.ndarray, period: int) -> dict:
     """The issue's goals from a plain and an after render (from above, ``period`` pixels a
-    tile): correlation at the period of each, per-channel Wasserstein between them, their
-    gradient ratio (after / plain)."""
+    tile): correlation at the period of each, the autocorrelation's largest peak at any shift
+    of 24 px or more of each, per-channel Wasserstein between them, their gradient and
+    structure-tensor anisotropy ratios (after / plain)."""
     return {"corr_plain": period_correlation(plain, period),
             "corr_after": period_correlation(after, period),
+            "peak_plain": repetition_peak(plain), "peak_after": repetition_peak(after),
+            "anisotropy_ratio": anisotropy(after) / max(anisotropy(plain), 1e-12),
             "wasserstein": max(wasserstein(plain, after)),
             "gradient_ratio": mean_gradient(luminance(after), wrap=False)
             / mean_gradient(luminance(plain), wrap=False)}

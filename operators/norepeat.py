@@ -22,9 +22,11 @@ is set so that texels keep their size (the photo's width over the tile side).
 Mode **Hex Tiling** (Mikkelsen 2022): no precomputation; a group node per map
 (``norepeat_hex_nodes.map_group``) reads the user's own image three times, on hexagonal cells
 each with a random offset and rotation, blended with the paper's luminance-weighted sharpened
-weights; the followers take the active map's luminances, so all maps blend alike, and a
-follower that is a normal map (Non-Color, and its values decode to unit vectors pointing out)
-has its normals turned with the cells.
+weights; by default the cells turn only by the active map's own symmetry
+(``texsynth.norepeat.rotation_symmetry``: half turns, quarter turns for a 4-fold photo), so a
+photo's courses, layers and light keep their direction; the followers take the active map's
+luminances, so all maps blend alike, and a follower that is a normal map (Non-Color, and its
+values decode to unit vectors pointing out) has its normals turned with the cells.
 
 The user's images and nodes are kept; everything is checked and computed before anything is
 made: on error or cancel the file is unchanged, and one Ctrl+Z undoes the whole
@@ -38,7 +40,7 @@ from .. import texsynth
 from ..texsynth.blocks.color import srgb_to_linear
 from ..texsynth.norepeat import GRID_SCALE, gaussianize, predict_memory
 from ..texsynth.norepeat.gaussian import MU
-from ..texsynth.norepeat.hex import CONTRAST, SHARPNESS
+from ..texsynth.norepeat.hex import CONTRAST, SHARPNESS, rotation_symmetry
 from . import norepeat_hex_nodes, norepeat_nodes, norepeat_tileset, pixels, source
 from .job import Job, JobOperator
 
@@ -52,8 +54,20 @@ MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
           "Randomly offset and turned copies on hexagonal cells, the brighter copy winning "
           "at a sharp seam (Mikkelsen 2022): for structured textures (layered rock, bark) and "
           "normal maps; no precomputation")]
-#: The hint under the buttons: which mode suits which photo.
-HINT = "Gravel, grass: Tiling and Blending; bricks, setts: Tile Set; rock: Hex Tiling"
+#: Hex Tiling's turns: the enum's items and the turns each asks for (AUTO: the photo's own).
+TURNS = [("AUTO", "Photo's Symmetry", "Half turns, or quarter turns for a photo with a "
+          "4-fold but no 2-fold direction (square setts, tiles): the photo's direction kept"),
+         ("HALF", "Half Turns", "Every cell upright or upside down"),
+         ("QUARTER", "Quarter Turns", "Multiples of 90 degrees"),
+         ("ANY", "Any Angle", "Any angle within Rotation: for textures with no direction "
+          "and no light direction (turns courses, layers and shadows every way)"),
+         ("NONE", "None", "Offsets only")]
+TURN_COUNTS = {"HALF": 2, "QUARTER": 4, "ANY": 0, "NONE": 1}
+#: The hint under the buttons: which mode suits which photo. Bricks and setts: Tile Set, the
+#: one mode that keeps them whole (no blend; its diamonds and tile middles placed in phase
+#: with the courses); the other two offset copies freely and blend or cut across joints.
+HINT = "Bricks, setts, tiles: Tile Set (keeps them whole); gravel, grass: Tiling and " \
+    "Blending; rock: Hex Tiling"
 #: The image made per map: the Gaussianised texture (name suffix; the table is a curve node).
 SUFFIXES = ("tnb_gaussian",)
 GAP = 300.0  # the new node's place below its source node
@@ -149,8 +163,11 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         "repetition, a larger atlas and a longer precomputation)")
     rotation: bpy.props.FloatProperty(
         name="Rotation", default=1.0, min=0.0, max=1.0, options={"SKIP_SAVE"},
-        description="Hex Tiling: the cells' angles span this fraction of a full turn (0 for "
-        "textures with a direction, such as layers or grain)")
+        description="Hex Tiling: the cells' angles span this fraction of a full turn, rounded "
+        "to the Turns")
+    turns: bpy.props.EnumProperty(
+        name="Turns", items=TURNS, default="AUTO", options={"SKIP_SAVE"},
+        description="Hex Tiling: the angles a cell may turn by")
     contrast: bpy.props.FloatProperty(
         name="Contrast", default=CONTRAST, min=0.0, max=1.0, options={"SKIP_SAVE"},
         description="Hex Tiling: how much the brighter copy wins at the seams (luminance)")
@@ -165,7 +182,7 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         layout.prop(self, "colours" if self.mode == "TILE_SET" else "scale")
         layout.prop(self, "seed")
         if self.mode == "HEX_TILING":
-            for name in ("rotation", "contrast", "sharpness"):
+            for name in ("turns", "rotation", "contrast", "sharpness"):
                 layout.prop(self, name)
 
     def prepare(self, context):
@@ -193,8 +210,11 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
                                  f"{values.shape[0]} pixels; it needs at least 2 x 2")
             maps.append((node.name, _shader_values(node.image, values, encoding)))
             normals.append(encoding.is_data and _looks_like_normals(values))
-        if self.mode == "HEX_TILING":  # nothing to precompute: the job only passes the flags
-            return Job(lambda progress=None: normals), (src, [n.name for n in nodes])
+        if self.mode == "HEX_TILING":  # nothing to precompute: the flags and the turns
+            turns = TURN_COUNTS.get(self.turns)
+            image = maps[0][1]
+            return Job(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
+                                              else turns)), (src, [n.name for n in nodes])
         return Job(_precompute, maps), (src, [n.name for n in nodes])
 
     def _prepare_tiles(self, src, nodes):
@@ -234,15 +254,17 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         if tiles:
             groups = norepeat_tileset.map_groups(result, [tree.nodes[n] for n in names])
         elif self.mode == "HEX_TILING":
+            normals, turns = result
             groups = [self._hex_group(tree.nodes[n], normal, k > 0)
-                      for k, (n, normal) in enumerate(zip(names, result, strict=True))]
+                      for k, (n, normal) in enumerate(zip(names, normals, strict=True))]
         else:
             groups = [self._blend_group(tree.nodes[n], g) for n, g in zip(names, result,
                                                                          strict=True)]
         made = [self._place(tree, tree.nodes[name], group, vector, scale, seed)
                 for name, group in zip(names, groups, strict=True)]
         if self.mode == "HEX_TILING":
-            norepeat_hex_nodes.link(tree, made, self.rotation, self.contrast, self.sharpness)
+            norepeat_hex_nodes.link(tree, made, self.rotation, turns, self.contrast,
+                                    self.sharpness)
         for node in tree.nodes:
             node.select = False
         made[0].select = True

@@ -2,10 +2,11 @@
 "Practical Real-Time Hex-Tiling", JCGT 11(2)), built by code; ``texsynth.norepeat.hex`` is the
 numpy reference.
 
-* **TexSynth Hex Grid** (Vector, Scale, Seed, Rotation, Texels -> UV 1-3, Angles, Weights): the
-  triangle grid of tiling and blending, its vertices read as the centres of hexagonal cells;
-  each of the point's three cells turns the texture by a hashed angle in ``[-pi, pi) *
-  Rotation`` (about the origin: see ``texsynth.norepeat.hex``) and offsets it by a hashed
+* **TexSynth Hex Grid** (Vector, Scale, Seed, Rotation, Turns, Texels -> UV 1-3, Angles,
+  Weights): the triangle grid of tiling and blending, its vertices read as the centres of
+  hexagonal cells; each of the point's three cells turns the texture by a hashed angle in
+  ``[-pi, pi) * Rotation`` rounded to a multiple of a ``1 / Turns`` turn (Turns 0: not
+  rounded; about the origin: see ``texsynth.norepeat.hex``) and offsets it by a hashed
   amount snapped to whole texels (one White Noise texture of the vertex and the seed gives
   both); the barycentric weights;
 * **TexSynth Hex Weights** (Weights, Luminance, Contrast, Sharpness -> Weights): the paper's
@@ -36,7 +37,7 @@ PI = 3.141592653589793
 def _build_grid():
     group, b, i = new_group(GRID, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
                                     ("Seed", "Float", 0.0), ("Rotation", "Float", 1.0),
-                                    ("Texels", "Vector")],
+                                    ("Turns", "Float", 2.0), ("Texels", "Vector")],
                              [("UV 1", "Vector"), ("UV 2", "Vector"), ("UV 3", "Vector"),
                               ("Angles", "Vector"), ("Weights", "Vector")])
     uv = i["Vector"]
@@ -44,12 +45,18 @@ def _build_grid():
     texel = b.vector("DIVIDE", (1.0, 1.0, 1.0), i["Texels"])
     spread = b.math("MULTIPLY", i["Rotation"], 2 * PI)
     start = b.math("MULTIPLY", i["Rotation"], -PI)
+    step = b.math("DIVIDE", 2 * PI, i["Turns"])  # Blender's Math gives 0 for Turns 0
+    rounded = b.math("GREATER_THAN", i["Turns"], 0.5)
     uvs, angles = [], []
     for vertex in vertices:
         noise = b.node("ShaderNodeTexWhiteNoise", (vertex,), noise_dimensions="3D")
         # the angle from the Value hash, the offset from the Color one's first two values
         # snapped to whole texels (the third is below 1: 0); turned about the origin
-        angle = b.math("MULTIPLY_ADD", noise.outputs["Value"], spread, start)
+        free = b.math("MULTIPLY_ADD", noise.outputs["Value"], spread, start)
+        # round(free / step) * step, as floor(free / step + 1/2) * step; kept when Turns is 0
+        snapped = b.math("MULTIPLY", b.math("FLOOR", b.math("MULTIPLY_ADD", free, b.math(
+            "DIVIDE", 1.0, step), 0.5)), step)
+        angle = b.math("MULTIPLY_ADD", rounded, b.math("SUBTRACT", snapped, free), free)
         turned = b.node("ShaderNodeVectorRotate", (uv, None, None, angle),
                         rotation_type="Z_AXIS")
         offset = b.vector("SNAP", noise.outputs["Color"], texel)
@@ -85,11 +92,11 @@ def shared_group(name):
 
 
 def map_group(name, image, interpolation, *, normal=False, follower=False):
-    """A new group (Vector, Scale, Seed, Rotation, Contrast, Sharpness[, Luminance] -> Color,
-    Alpha[, Luminance]) hex-tiling one map's own ``image``: a follower takes the active map's
+    """A new group (Vector, Scale, Seed, Rotation, Turns, Contrast, Sharpness[, Luminance] ->
+    Color, Alpha[, Luminance]) hex-tiling one map's own ``image``: a follower takes the active map's
     Luminance in, the active map gives it out; ``normal``: a tangent-space normal map."""
     inputs = [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE), ("Seed", "Float", 0.0),
-              ("Rotation", "Float", 1.0), ("Contrast", "Float", CONTRAST),
+              ("Rotation", "Float", 1.0), ("Turns", "Float", 2.0), ("Contrast", "Float", CONTRAST),
               ("Sharpness", "Float", SHARPNESS)]
     outputs = [("Color", "Color"), ("Alpha", "Float")]
     if follower:
@@ -98,7 +105,7 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
         outputs.append(("Luminance", "Vector"))
     group, b, i = new_group(name, inputs, outputs)
     grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID))
-    for socket in ("Vector", "Scale", "Seed", "Rotation"):
+    for socket in ("Vector", "Scale", "Seed", "Rotation", "Turns"):
         b.tree.links.new(i[socket], grid.inputs[socket])
     grid.inputs["Texels"].default_value = (*image.size, 1.0)
     copies = [b.node("ShaderNodeTexImage", (grid.outputs[f"UV {k + 1}"],), image=image,
@@ -135,11 +142,12 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
     return group
 
 
-def link(tree, made, rotation, contrast, sharpness):
+def link(tree, made, rotation, turns, contrast, sharpness):
     """The placed group nodes ``made`` (the active map's first) given the mode's settings, and
     the followers the active map's luminances."""
     for node in made:
-        for socket, value in (("Rotation", rotation), ("Contrast", contrast),
+        for socket, value in (("Rotation", rotation), ("Turns", float(turns)),
+                              ("Contrast", contrast),
                               ("Sharpness", sharpness)):
             node.inputs[socket].default_value = value
     for node in made[1:]:

@@ -34,7 +34,7 @@ from ..texsynth.norepeat import GRID_SCALE
 GRID = "TexSynth Triangle Grid"
 BLEND = "TexSynth Variance-Preserving Blend"
 #: Custom property marking a group as built by this module, with the layout's version.
-TAG, VERSION = "texsynth_norepeat", 2
+TAG, VERSION = "texsynth_norepeat", 3
 
 
 class _Builder:

@@ -120,6 +120,18 @@ def test_the_courses_stay_in_rows_across_cells(tiles):
     assert 0.8 * JOINT / COURSE < (mortar > 0.8).mean() <= 1.2 * JOINT / COURSE
 
 
+def test_every_tile_has_a_middle_of_its_own(tiles):
+    """Issue 41: with the diamonds alone a shift of one cell showed the same diamond half the
+    time (and the tiles' centres only 2 colours x 2 directions of photo pixels); each tile's
+    centre now shows its own part of the photo, apart from every other tile's."""
+    t = tiles.tile
+    centres = np.array([_tile(tiles, *nesw)[t // 2, t // 2]
+                        for nesw in np.ndindex(*(tiles.colours,) * 4)])
+    apart = np.abs(centres[:, None] - centres[None, :]).max(axis=-1)
+    np.fill_diagonal(apart, t)
+    assert apart.min() >= t // 4
+
+
 def test_same_seed_same_tiles_and_another_seed_others(wall, tiles):
     again = wang_tiles(wall, tile=72, gutter=4, seed=3)
     assert np.array_equal(again.atlas, tiles.atlas)

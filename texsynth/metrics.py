@@ -28,6 +28,11 @@
   autocorrelations of the exemplar's periodic component and of the output.
 - ``power_spectrum_correlation``: is the power spectrum kept (what random phase noise keeps)?
   Correlation of the radially averaged log power spectra.
+- ``repetition_peak``: does it repeat? The largest peak of the luminance's autocorrelation at a
+  shift of at least 24 px (every direction, not only at a known period): about 1 for a texture
+  laid side by side, the photo's own for an output that repeats no more than its photo.
+- ``anisotropy``: has it kept its direction? The image-wide structure tensor's anisotropy, 0
+  for a texture with no direction, towards 1 for stripes.
 - ``self_distance``: the same three distances between the two halves of the exemplar, the natural
   variation a good synthesis cannot be expected to beat.
 
@@ -38,7 +43,7 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from scipy.ndimage import gaussian_filter
+from scipy.ndimage import gaussian_filter, maximum_filter
 
 from .blocks.joints import Joints
 from .blocks.periodic import periodic_component
@@ -63,6 +68,8 @@ __all__ = [
     "autocorrelation",
     "autocorrelation_error",
     "power_spectrum_correlation",
+    "repetition_peak",
+    "anisotropy",
     "COPY_THRESHOLD",
 ]
 
@@ -237,7 +244,7 @@ def gradient_ratio(photo: np.ndarray, output: np.ndarray) -> float:
 
     Examples
     --------
-    >>> from scipy.ndimage import gaussian_filter
+    >>> from scipy.ndimage import gaussian_filter, maximum_filter
     >>> noise = np.random.default_rng(0).random((64, 64))
     >>> round(gradient_ratio(noise, noise), 2)
     1.0
@@ -513,3 +520,69 @@ def course_steps(image: np.ndarray, period: int, strip: int = 32, wrap: bool = T
     corr = np.stack([(a * standard(right[rows + d])).sum(axis=1) for d in shifts])
     best = shifts[corr.argmax(axis=0)]  # (windows, strips)
     return float((np.abs(best) >= period / 4).mean())
+
+
+def repetition_peak(image: np.ndarray, min_shift: float = 24.0) -> float:
+    """The largest peak of the luminance's autocorrelation at a shift of at least
+    ``min_shift`` pixels (Euclidean length), over every shift up to half the image across and
+    down: about 1 when the image shows a texture laid side by side, about the photo's own
+    for a synthesis that repeats no more than its photo.
+
+    The autocorrelation is the zero-mean luminance's, linear (zero-padded: the image need not
+    tile), each shift's sum over its overlap's pixels and over the variance; a peak is a shift
+    at least as high as its 8 neighbours (the tail of the central lobe is none).
+
+    References
+    ----------
+    Lefebvre & Hoppe 2005, 4 (repetition seen as the autocorrelation's off-centre peaks).
+
+    Examples
+    --------
+    >>> tile = np.random.default_rng(0).random((32, 32))
+    >>> round(repetition_peak(np.tile(tile, (4, 4))), 2)
+    1.0
+    >>> bool(repetition_peak(np.random.default_rng(1).random((128, 128))) < 0.1)
+    True
+    """
+    y = luminance(image)
+    y = y - y.mean()
+    h, w = y.shape
+    var = float((y * y).mean())
+    if var <= 0.0:
+        return 0.0
+    spectrum = np.fft.rfft2(y, s=(2 * h, 2 * w))
+    c = np.fft.fftshift(np.fft.irfft2(np.abs(spectrum) ** 2, s=(2 * h, 2 * w)))
+    dy, dx = np.arange(-(h // 2), h // 2 + 1), np.arange(-(w // 2), w // 2 + 1)
+    c = c[h + dy[:, None], w + dx[None, :]]
+    r = c / ((h - np.abs(dy))[:, None] * (w - np.abs(dx))[None, :]) / var
+    peak = r >= maximum_filter(r, size=3, mode="nearest")
+    far = np.hypot(dy[:, None], dx[None, :]) >= min_shift
+    found = r[peak & far]
+    return float(found.max()) if found.size else 0.0
+
+
+def anisotropy(image: np.ndarray, sigma: float = 1.0) -> float:
+    """The anisotropy of the structure tensor summed over the whole image, ``(l1 - l2) / (l1 +
+    l2)`` of its eigenvalues: 0 when no gradient direction prevails (gravel; a texture
+    turned every way), towards 1 for parallel stripes (layers, courses, streaks).
+
+    Gradients are Gaussian derivatives (``sigma`` pixels) of the luminance.
+
+    References
+    ----------
+    Bigun & Granlund 1987 (the structure tensor); Jahne 2005, 13.3 (its coherence).
+
+    Examples
+    --------
+    >>> x = np.arange(64)
+    >>> stripes = np.tile(np.sin(x / 3.0), (64, 1))
+    >>> noise = np.random.default_rng(0).random((64, 64))
+    >>> round(anisotropy(stripes), 2), bool(anisotropy(noise) < 0.1)
+    (1.0, True)
+    """
+    y = luminance(image)
+    gx = gaussian_filter(y, sigma, order=(0, 1))
+    gy = gaussian_filter(y, sigma, order=(1, 0))
+    jxx, jyy, jxy = (gx * gx).sum(), (gy * gy).sum(), (gx * gy).sum()
+    trace = jxx + jyy
+    return float(np.sqrt((jxx - jyy) ** 2 + 4 * jxy ** 2) / trace) if trace > 0 else 0.0

@@ -51,6 +51,7 @@ def test_the_tree_reads_the_users_image_and_the_followers_share_its_weights():
     assert follower.inputs["Luminance"].links[0].from_node == active
     for node in (active, follower):
         assert node.inputs["Rotation"].default_value == 0.5
+        assert node.inputs["Turns"].default_value == 2.0  # the photo's own: half turns
         assert {n.node_tree.name for n in _groups(node.node_tree)} == {GRID, WEIGHTS}
         reads = [n for n in node.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"]
         assert len(reads) == 3 and {n.image.name for n in reads} == {
@@ -58,6 +59,13 @@ def test_the_tree_reads_the_users_image_and_the_followers_share_its_weights():
     assert tree.nodes["Principled BSDF"].inputs["Roughness"].links[0].from_node == follower
     assert not any(n.bl_idname == "ShaderNodeVectorRotate" and n.invert
                    for n in follower.node_tree.nodes)  # a grey map is no normal map
+
+
+@pytest.mark.parametrize("turns, count", [("ANY", 0.0), ("QUARTER", 4.0), ("NONE", 1.0)])
+def test_the_turns_asked_for_reach_the_group(turns, count):
+    tree = material_with(generated_image(noise(32, 32), colorspace="sRGB"))
+    assert bpy.ops.texsynth.break_repetition(mode="HEX_TILING", turns=turns) == {"FINISHED"}
+    assert tree.nodes.active.inputs["Turns"].default_value == count
 
 
 @pytest.mark.parametrize("case", CASES)

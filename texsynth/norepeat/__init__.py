@@ -15,8 +15,8 @@
 
 from .blend import GRID_SCALE, predict_blend_memory, tile_and_blend, triangle_grid, vertex_offsets
 from .gaussian import Gaussianized, gaussianize, predict_memory
-from .hex import hex_tile, hex_weights, predict_hex_memory
-from .measure import period_correlation
+from .hex import hex_tile, hex_weights, predict_hex_memory, rotation_symmetry
+from .measure import anisotropy, period_correlation, repetition_peak
 from .tiles import (
     WangTiles,
     edge_colours,
@@ -30,4 +30,4 @@ __all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend",
            "predict_blend_memory", "triangle_grid", "vertex_offsets", "period_correlation",
            "GRID_SCALE", "WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions",
            "edge_colours", "predict_tiles_memory", "hex_tile", "hex_weights",
-           "predict_hex_memory"]
+           "predict_hex_memory", "rotation_symmetry", "repetition_peak", "anisotropy"]

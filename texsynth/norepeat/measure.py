@@ -1,12 +1,20 @@
-"""How much an image of a surface still repeats: its luminance's correlation at the tile period."""
+"""How much an image of a surface still repeats, and whether it kept its direction.
+
+- :func:`period_correlation`: the luminance's correlation at a known tile period;
+- ``repetition_peak`` (``texsynth.metrics``): the autocorrelation's largest peak at EVERY shift
+  of 24 px or more: what the eye sees, a repeat at the tile's, a cell's or any other shift
+  (issue 41: a Tile Set repeated at its cell, not at the photo's period where it was measured);
+- ``anisotropy`` (``texsynth.metrics``): the structure tensor's, to compare a render with the
+  plain one's (a photo's courses and layers turned every way fall towards 0).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..metrics import luminance
+from ..metrics import anisotropy, luminance, repetition_peak
 
-__all__ = ["period_correlation"]
+__all__ = ["period_correlation", "repetition_peak", "anisotropy"]
 
 
 def period_correlation(image, period: int) -> float:

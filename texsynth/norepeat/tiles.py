@@ -27,6 +27,15 @@ position map, which makes the other maps of a material (roughness, normal) into 
   across the quarter's anti-diagonals (a step of the path is a step right or down, so it can
   follow a mortar joint in either direction), pinned at the corner and kept within ``BAND``
   of the diagonal; the quarter's outer rows and columns keep their own edge's diamond.
+- **Interiors** (issue 41): with the diamonds alone, 2 colours give 2 diamonds a direction and a
+  shift of one cell shows the same diamond half the time (rendered 8 x 8, the autocorrelation
+  peaked at 0.33-0.53 at one cell); so each tile's middle is its own patch of the photo, as
+  Cohen et al. fill a tile's interior from the sample: a ``t`` x ``t`` window placed where
+  it agrees best with the tile on the ring of radii ``INTERIOR`` (times ``t``) around the
+  tile's centre (the quilting patch choice, in phase with the courses as the diamonds are),
+  away from the tile's own content and the other tiles' interiors (``INTERIOR_SPACING``), cut
+  in along the ring by a closed minimum error boundary cut on the ring unrolled (angle,
+  radius); the edges and corners keep their diamonds, so neighbours still match.
 - **Atlas** (the tiles read by a shader, Wei 2004's complete set picked by hashed edges): the
   ``colours**4`` tiles in a ``colours**2`` square grid, each with a ``gutter`` of pixels on
   every side copied from the diamond beyond that edge, what the neighbour shows there (so a
@@ -40,6 +49,8 @@ Deviations, one line each:
   in phase keep a regular photo's rows whole across the cuts;
 - a complete set of ``colours**4`` tiles picked per cell from hashed edge colours (Wei 2004),
   not Cohen et al.'s 8 tiles laid in scanline order (a shader cannot see its neighbours' tiles);
+- the interiors' cut is a closed path of one radius per angle (a star-shaped patch), not a
+  graph cut;
 - the gutters' corner squares continue the north and south diamonds (the diagonal neighbour's
   tile is unknown there);
 - the edge colours come from an integer hash of the edge's coordinates and the seed
@@ -89,6 +100,13 @@ SEARCH_SIDE = 1024
 #: The tone's weight in the diamonds' search, and its block side (pixels): the SSD of the
 #: block means, each block counted for its pixels, TONE times.
 TONE, TONE_BLOCK = 4.0, 16
+#: The ring (radii as fractions of the tile side) in which a tile's interior patch is cut in:
+#: within it the tile's middle is its own; outside it the diamonds' (the edges' mid-points are
+#: half a tile from the centre).
+INTERIOR = (0.22, 0.44)
+#: A tile's interior window is at least this fraction of the tile from the tile's own content
+#: and from every other interior (Chebyshev distance of the windows' corners).
+INTERIOR_SPACING = 1 / 4
 
 # Tile pixel (i, j) of the triangle of role X reads the photo at c_X + (i, j) + _OFFSET[X],
 # c_X the centre of its diamond: N and S are halves of horizontal-edge diamonds, W and E of
@@ -324,6 +342,51 @@ def _tile_labels(photo, centres, colours_nesw, t, offset) -> np.ndarray:
     return labels
 
 
+def _ring(t: int):
+    """The ring's polar samples around the centre of a (t, t) tile: per angle (rows) and
+    radius (columns) the nearest pixel (row, col) arrays, and each tile pixel's angle bin and
+    radius."""
+    r0, r1 = INTERIOR[0] * t, INTERIOR[1] * t
+    angles = int(np.ceil(2 * np.pi * r1))
+    theta = 2 * np.pi * (np.arange(angles) + 0.5) / angles
+    radius = np.arange(np.ceil(r0), np.floor(r1) + 1)
+    c = (t - 1) / 2
+    rows = np.clip(np.rint(c + radius[None, :] * np.sin(theta[:, None])), 0, t - 1).astype(int)
+    cols = np.clip(np.rint(c + radius[None, :] * np.cos(theta[:, None])), 0, t - 1).astype(int)
+    i, j = np.indices((t, t)) - c
+    bins = (np.floor(np.mod(np.arctan2(i, j), 2 * np.pi) / (2 * np.pi) * angles)
+            .astype(int) % angles)
+    return rows, cols, radius, bins, np.hypot(i, j)
+
+
+def _interior(placer, a, tile_positions, avoid, rng):
+    """A tile's middle from its own window of the photo: the window's corner (row, col) and
+    the (t, t) mask of the pixels it takes (see the module's Interiors)."""
+    t, f = placer.t, placer.f
+    rows, cols, radius, bins, dist = placer.ring
+    content = a[tile_positions[..., 0], tile_positions[..., 1]]
+    mask = ((dist >= INTERIOR[0] * t) & (dist <= INTERIOR[1] * t)).astype(np.float32)
+    if f > 1:
+        ssd = placer.search.ssd(block_means(content, f), block_means(mask[:, :, None], f)[
+            :, :, 0])
+    else:
+        ssd = placer.search.ssd(content, mask)
+    ys, xs = np.arange(ssd.shape[0]) * f, np.arange(ssd.shape[1]) * f
+    far = np.ones(ssd.shape, bool)
+    for y, x in avoid:
+        far &= (np.abs(ys[:, None] - y) >= INTERIOR_SPACING * t) \
+            | (np.abs(xs[None, :] - x) >= INTERIOR_SPACING * t)
+    if far.any():
+        ssd = np.where(far, ssd, np.inf)
+    near = np.flatnonzero(ssd <= ssd.min() * (1 + TOLERANCE) + 1e-12)
+    k = near[rng.integers(len(near))]
+    corner = int(ys[k // ssd.shape[1]]), int(xs[k % ssd.shape[1]])
+    window = a[corner[0]:corner[0] + t, corner[1]:corner[1] + t]
+    d = window[rows, cols] - content[rows, cols]
+    path = min_error_path(np.einsum("...c,...c->...", d, d), closed=True)
+    return corner, dist <= radius[path][bins]
+
+
 def predict_tiles_memory(shape, tile: int | None = None, colours: int = 2,
                          gutter: int = 8) -> float:
     """Peak bytes of :func:`wang_tiles` on a photo of ``shape`` (H, W[, C]) with tiles of
@@ -331,9 +394,10 @@ def predict_tiles_memory(shape, tile: int | None = None, colours: int = 2,
     that the fit to the photo's period picks from, so the atlas term is within 1.3x of any side
     the fit picks; the most it can be read 1.58x the peak on the 2048 setts photo): the atlas
     and its positions (float32 channels and two int32 a pixel), the search's float64 copy and
-    spectra (8 C + 16 bytes a photo pixel, fitted), one slot's int64 index arrays (four) and
-    the photo's float32 copy (made when it comes as bytes). tracemalloc's peak on float32
-    photos from 256 x 320 to 1024 x 1024, grey and RGB, 2 and 3 colours: 1.1-1.4 x below.
+    spectra (8 C + 16 bytes a photo pixel, fitted) and an interior's search beside them (24 +
+    8 C more), one slot's int64 index arrays (four) and the photo's float32 copy (made when it
+    comes as bytes). tracemalloc's peak on float32 photos from 256 x 320 to 1024 x 1024, grey
+    and RGB, 2 and 3 colours: 1.1-1.4 x below.
 
     Examples
     --------
@@ -345,7 +409,7 @@ def predict_tiles_memory(shape, tile: int | None = None, colours: int = 2,
     t = 7 * default_tile(shape, colours, gutter) // 8 if tile is None else tile
     f = _search_step((h, w))
     a = colours ** 2 * (t + 2 * gutter)
-    return float(a * a * (4 * c + 8) + (h // f) * (w // f) * (16 + 8 * c)
+    return float(a * a * (4 * c + 8) + (h // f) * (w // f) * (40 + 16 * c)
                  + (t + 2 * gutter) ** 2 * 32 + h * w * c * 4)
 
 
@@ -429,6 +493,7 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int 
     rng = np.random.default_rng(seed)
 
     placer = _Placer(a, t, gutter)
+    placer.ring = _ring(t)
     centres: list[list[tuple[int, int]]] = [[], []]
     used: list[tuple[int, int]] = []
     for k in range(2 * colours):
@@ -446,6 +511,7 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int 
     i, j = np.indices((step, step)) - gutter
     gutter_role = np.where(i < 0, _N, np.where(i >= t, _S, np.where(j < 0, _W, _E)))
     count = colours ** 4
+    interiors: list[tuple[int, int]] = []
     for index, nesw in enumerate(np.ndindex(*(colours,) * 4)):
         report(0.5 + 0.5 * index / count, "Wang tiles: cutting the tiles")
         role = gutter_role.copy()
@@ -457,8 +523,14 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int 
         n, e, s, w_ = nesw
         r0 = (n * colours + s) * step
         c0 = (w_ * colours + e) * step
-        positions[r0:r0 + step, c0:c0 + step, 0] = origin[role, 0] + i
-        positions[r0:r0 + step, c0:c0 + step, 1] = origin[role, 1] + j
+        slot = positions[r0:r0 + step, c0:c0 + step]
+        slot[..., 0] = origin[role, 0] + i
+        slot[..., 1] = origin[role, 1] + j
+        inner = slot[gutter:gutter + t, gutter:gutter + t]
+        corner, kept = _interior(placer, a, inner, [*origin, *interiors], rng)
+        interiors.append(corner)
+        ii, jj = np.indices((t, t))
+        inner[kept] = np.stack([corner[0] + ii, corner[1] + jj], -1)[kept]
     atlas = a[positions[:, :, 0], positions[:, :, 1]]
     report(1.0, "Wang tiles: done")
     return WangTiles(atlas, positions, t, gutter, colours, centres_arr, (h, w))
