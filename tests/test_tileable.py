@@ -248,6 +248,23 @@ def test_a_wall_cut_out_of_phase_keeps_whole_bricks_across_the_wrap(seed):
     assert 0.8 <= seam_ratio_in_phase(out) <= 1.2
 
 
+@pytest.mark.parametrize("seed", [2, 3])
+def test_the_vertical_arm_keeps_the_bed_joints_in_line_where_the_courses_fit_the_height(seed):
+    """Four courses of 48 px in a 192 px high photo of grainy pavers with thin joints: the
+    vertical arm's pieces come from rows a whole number of courses from where they go (within
+    the search's block and its refinement, 2 px), so the bed joints beside it run on without
+    a step (taken by colour alone: 4 px steps on seeds 2 and 3)."""
+    wall = running_bond((232, 296), 1, course=48, brick=112, joint=2, tint=(0.6, 0.6, 0.6),
+                        shade=(0.6, 0.1), grain=0.4, mortar=(0.2, 0.2, 0.2), speckle=0.05)[0]
+    photo = np.ascontiguousarray(wall[7:199, 29:265])
+    band = default_band(photo.shape)
+    _, positions = texsynth.make_tileable_positions(photo, seed=seed)
+    rows = np.arange(band // 2, 192 - band // 2)  # the vertical arm beyond the horizontal one
+    source = positions[rows][:, (np.arange(band) - band // 2) % 236, 0]
+    step = (source - rows[:, None]) % 48
+    assert np.minimum(step, 48 - step).max() <= 2
+
+
 def mixture(shape=(256, 256), seed=0):
     """Smooth ground (faint, broad noise) and rough gravel (strong, fine noise), half and
     half, in blobs."""

@@ -77,6 +77,11 @@ Deviations, one line each:
   out the bed joint the rows below them hold (the concrete pavers' centre 512: two courses
   merged into one paver at the wrap); the vertical arm's column means (a running bond's half
   brick) are no lattice step, and phased they broke the test bricks' wrap (0.80 in phase);
+  where the photo's height is a whole number of periods (within ``PHASE``), the courses run
+  on in phase across the wrap and the vertical arm's patches are taken a whole number of
+  periods (within a block) from the rows where they go: free, the patch at the crossing
+  left the bed joint at the wrap broken (the pavers' centre 512, a 14 px gap or step);
+  where it is not (the brick walls: a part of a course left at the crossing), as before;
   without courses (gravel, a mixture, noise) the patches are chosen as before;
 - no blending of the pieces: the cuts and the correction stay within the band, so every pixel
   farther than ``band / 2`` from the photo's edges is unchanged;
@@ -231,10 +236,11 @@ class _Source:
 
     def __init__(self, image: np.ndarray, contrast: np.ndarray | None,
                  coarse: np.ndarray | None, f: int, e: int, swap: bool,
-                 period: int | None = None):
+                 period: int | None = None, along: int | None = None):
         self.image, self.f, self.e, self.swap = image, f, e, swap
-        # The courses' period across the arm (``texsynth.blocks.rhythm``), None without one.
-        self.period, self.across = period, image.shape[0] + 2 * e
+        # The courses' period across the arm (``texsynth.blocks.rhythm``), None without one,
+        # and along it (the vertical arm's, where the wrap is in phase: :func:`_along`).
+        self.period, self.along, self.across = period, along, image.shape[0] + 2 * e
         # Searched at full resolution (f == 1): the photo's contrast (:func:`_contrast`), as
         # the photo is (templates read it at their pixels' positions), and as this source is.
         self.contrast, self.own = contrast, None
@@ -256,11 +262,16 @@ class _Source:
             out |= (np.abs(y - uy) * 2 < min(ph, uh)) & (np.abs(x - ux) * 2 < min(pw, uw))
         return out
 
-    def _out_of_phase(self, shape, origin) -> np.ndarray:
+    def _out_of_phase(self, shape, origin, start) -> np.ndarray:
         """Placements (on the search's grid) whose rows are not a whole number of course
         periods (within ``PHASE``, at least a block) from the photo lines ``origin``
-        onwards that the patch continues: all False without a period."""
+        onwards that the patch continues, or whose columns not a whole number of periods
+        along the arm (within a block) from the photo line ``start`` where the patch goes:
+        all False without a period."""
         out = np.zeros(shape, bool)
+        if self.along is not None:
+            r = (np.arange(shape[1]) * self.f + self.e - start) % self.along
+            out[:, np.minimum(r, self.along - r) > self.f] = True
         if self.period is None:
             return out
         r = (np.arange(shape[0]) * self.f + self.e - origin) % self.period
@@ -268,12 +279,13 @@ class _Source:
         out[off > max(self.f, PHASE * self.period)] = True
         return out
 
-    def choose(self, template, at, mask, rng, used, origin=0) -> tuple[int, int]:
+    def choose(self, template, at, mask, rng, used, origin=0, start=0) -> tuple[int, int]:
         """The patch origin, in this source's coordinates, for ``template`` (its pixels from
         the photo positions ``at``) weighted by ``mask``: the ``CANDIDATES`` best placements
         on the search's grid (apart from each other, none more than half covered by a
         ``used`` window, in phase with the courses across the arm from the photo line
-        ``origin`` that its first row continues, where they have a period) refined at full
+        ``origin`` that its first row continues and along it from the line ``start`` where
+        it goes, where they have a period) refined at full
         resolution, then one of those within the tolerance of the best, at random. Matched
         with the colours: the local contrast (on the search's grid, ``_coarse``; at full
         resolution, ``_contrast``, where the search is there)."""
@@ -289,7 +301,7 @@ class _Source:
         excluded = self._excluded(ssd.shape, ph, pw, used)
         if excluded.all():
             excluded[:] = False
-        phase = excluded | self._out_of_phase(ssd.shape, origin)
+        phase = excluded | self._out_of_phase(ssd.shape, origin, start)
         if not phase.all():
             excluded = phase
         ssd[excluded] = np.inf
@@ -327,6 +339,16 @@ class _Source:
         """The patch's window in photo coordinates (row, col, rows, cols)."""
         y, x = y + self.e, x + self.e
         return (x, y, pw, ph) if self.swap else (y, x, ph, pw)
+
+
+def _along(period: int | None, h: int) -> int | None:
+    """The courses' period along the vertical arm: the rows' ``period``, where the photo's
+    ``h`` rows are a whole number of periods (within ``PHASE``) so that the courses run on
+    in phase across the wrap; else None (the horizontal arm's middle cut then absorbs a
+    part of a course at the crossing, which no patch in phase with the photo continues)."""
+    if period is None or min(h % period, period - h % period) > PHASE * period:
+        return None
+    return period
 
 
 def _contrast(image: np.ndarray) -> np.ndarray:
@@ -392,7 +414,8 @@ def _layer(current, current_at, lo, hi, matched, counted, source, lay, rng, repo
             mask[:, :ov] = 1
         if after:
             mask[:, -ov:] = 1
-        y, x = source.choose(template, at[:, cols], mask, rng, used, origin)
+        y, x = source.choose(template, at[:, cols], mask, rng, used, origin,
+                             int(starts[k] % length))
         used.append(source.window(y, x, ph, pw))
         patch, where = source.patch(y, x, ph, pw)
         # Efros & Freeman 2.1: the cuts through the overlaps with the neighbours.
@@ -667,7 +690,8 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
 
     cols = (np.arange(lay.side) - lay.top - lay.m) % w
     down = _Source(inside.transpose(1, 0, 2), contrast,
-                   None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True)
+                   None if coarse is None else coarse.transpose(1, 0, 2), lay.f, e, swap=True,
+                   along=_along(across.period, h))
     strip, at = _arm(out[:, cols].transpose(1, 0, 2), positions[:, cols].transpose(1, 0, 2),
                      _unlike(a.transpose(1, 0, 2), cols, band), down, lay, rng,
                      report.span(0.45, 0.85), used)
