@@ -48,21 +48,24 @@ def _timed(args: list[str]) -> dict:
             "stderr": proc.stderr}
 
 
-def _steps(photo: np.ndarray, focal: float) -> dict[str, float]:
-    """Wall seconds per step of one in-process run, from its timed progress reports."""
-    costs = pipeline._costs(photo.shape, (SIZE, SIZE), pipeline.STEPS, None, False)
+def _steps(photo: np.ndarray, focal: float, side: int):
+    """The material of one in-process run, and (wall, CPU) seconds per step from its timed
+    progress reports (CPU: this process's, every thread)."""
+    costs = pipeline._costs(photo.shape, (side, side), pipeline.STEPS, None, False)
     ends = np.cumsum([s for s, _ in costs.values()]) / sum(s for s, _ in costs.values())
     reports = []
-    start = time.perf_counter()
-    pipeline.photo_to_material(photo, size=(SIZE, SIZE), focal_px=focal,
-                               progress=lambda f, m: reports.append((time.perf_counter(), f)))
-    taken = dict.fromkeys(costs, 0.0)
+    start = (time.perf_counter(), time.process_time())
+    made = pipeline.photo_to_material(
+        photo, size=(side, side), focal_px=focal,
+        progress=lambda f, m: reports.append((time.perf_counter(), time.process_time(), f)))
+    taken = {step: [0.0, 0.0] for step in costs}
     last = start
-    for at, fraction in reports:  # the time up to a report belongs to the step it is in
+    for wall, cpu, fraction in reports:  # the time up to a report is the step's it is in
         step = list(costs)[min(int(np.searchsorted(ends, fraction - 1e-9)), len(costs) - 1)]
-        taken[step] += at - last
-        last = at
-    return taken
+        taken[step][0] += wall - last[0]
+        taken[step][1] += cpu - last[1]
+        last = (wall, cpu)
+    return made, taken
 
 
 def run(ctx) -> str:
@@ -75,8 +78,6 @@ def run(ctx) -> str:
         tile1 = _timed(["tile", str(path), "-o", f"{tmp}/tile.png"])
         made = _timed(["material", str(path), "-o", f"{tmp}/mat", "--size", str(side)])
         tile2 = _timed(["tile", str(path), "-o", f"{tmp}/tile2.png"])
-        maps = {s: read_photo(Path(tmp) / "mat" / f"{path.stem}_{s}.png")
-                for s in pipeline.SUFFIXES}
     predicted = made["stderr"].split("predicted: about ")[1].split(" peak")[0]
     steps_told = [line for line in made["stderr"].splitlines()
                   if line.split(":")[0] in pipeline.STEPS]
@@ -106,21 +107,25 @@ def run(ctx) -> str:
         "",
         "What each step said: " + "; ".join(f"`{line}`" for line in steps_told) + ".",
         "",
-        f"Every map {side} x {side} and tiling (seam ratio, luminance; goal "
-        f"{SEAM[0]}-{SEAM[1]}):",
+        f"Every map {side} x {side} and tiling, from one more run of the pipeline in this "
+        "process (the same seed: the same maps as the command's, before their 8-bit "
+        f"quantization, which makes a smooth map's seam ratio meaningless; luminance; goal "
+        f"{SEAM[0]}-{SEAM[1]}), and each step's time in that run (its progress reports timed, "
+        "each given to the step whose span holds it):",
         "",
         "| map | size | seam ratio |",
         "|---|---|---:|",
     ]
-    for suffix, image in maps.items():
+    material, taken = _steps(photo, focal, side)
+    images = {"Color": material.colour, "NormalGL": material.maps.normal * 0.5 + 0.5,
+              "Displacement": material.maps.height, "Roughness": material.maps.roughness,
+              "AmbientOcclusion": material.maps.ao}
+    for suffix, image in images.items():
         seam = metrics.seam_ratio(image)
         lines.append(f"| {suffix} | {image.shape[1]} x {image.shape[0]} | "
                      f"{mark(seam, SEAM[0] <= seam <= SEAM[1])} |")
-    if not ctx.quick:
-        taken = _steps(photo, focal)
-        total = sum(taken.values())
-        lines += ["", "Each step's wall time in one run of the pipeline in this process (its "
-                  "progress reports timed, each given to the step whose span holds it):", "",
-                  "| step | s | share |", "|---|---:|---:|"]
-        lines += [f"| {step} | {s:.1f} | {s / total:.0%} |" for step, s in taken.items()]
+    total = sum(cpu for _, cpu in taken.values())
+    lines += ["", "| step | wall s | CPU s | CPU share |", "|---|---:|---:|---:|"]
+    lines += [f"| {step} | {wall:.1f} | {cpu:.1f} | {cpu / total:.0%} |"
+              for step, (wall, cpu) in taken.items()]
     return "\n".join(lines)
