@@ -60,7 +60,7 @@ SUFFIXES = ("Color", "NormalGL", "Displacement", "Roughness", "AmbientOcclusion"
 #: plane estimate (its analysis runs at a fixed side, plus the full photo's luminance), and
 #: delight, heal and derive_maps per pixel they touch.
 ESTIMATE_SECONDS = (1.0, 1e-7)  # (fixed, per photo pixel)
-DELIGHT_SECONDS_PER_PIXEL = 2e-7
+DELIGHT_SECONDS_PER_PIXEL = 7e-8
 HEAL_SECONDS_PER_PIXEL = 2e-6  # per masked pixel
 MAPS_SECONDS_PER_PIXEL = 4e-7
 #: Peak bytes per pixel of the steps without a memory model of their own: rectify's (its
@@ -307,9 +307,7 @@ def photo_to_material(photo, *, size=None, mask=None, corners=None,
     else:
         done.append("heal: nothing masked" if "heal" in steps else "heal: left out")
     if "delight" in steps:
-        spans["delight"](0.0, "Material: taking out the light")
-        work = delight(work, seed=seed)
-        spans["delight"](1.0, "Material: light taken out")
+        work = delight(work, seed=seed, progress=spans["delight"])
         done.append("delight: the light taken out")
     else:
         done.append("delight: left out")
