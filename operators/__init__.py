@@ -11,6 +11,7 @@ Read in this order:
   ``composite.py`` (``texsynth.segment``, ``texsynth.synthesize_composite``), ``estimate.py``
   (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``),
   ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile),
+  ``photo_material.py`` (``texsynth.photo_to_material``: a photo to a new, wired material),
   ``norepeat.py`` (``texsynth.break_repetition``: never repeating at render time; its node
   groups in ``norepeat_nodes.py``, the Tile Set mode's in ``norepeat_tileset.py``);
 * ``panels.py``: every panel;
@@ -22,9 +23,20 @@ Each module with Blender classes keeps a ``classes`` tuple and its own ``registe
 the settings before the operators, the operators before the panels that show them.
 """
 
-from . import composite, estimate, material, norepeat, panels, properties, synthesize, tileable
+from . import (
+    composite,
+    estimate,
+    material,
+    norepeat,
+    panels,
+    photo_material,
+    properties,
+    synthesize,
+    tileable,
+)
 
-_modules = (properties, synthesize, material, tileable, norepeat, composite, estimate, panels)
+_modules = (properties, synthesize, material, tileable, norepeat, composite, estimate,
+            photo_material, panels)
 
 
 def register():

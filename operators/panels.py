@@ -7,6 +7,8 @@ Shader Editor (a material's node tree):
   ``texsynth.make_tileable`` button, each button under its predicted time and memory; under it
 * **Material Maps** (:class:`TEXSYNTH_PT_material`): the maps that follow the active one and
   ``texsynth.synthesize_material`` (guided or column);
+* **Photo to Material** (:class:`TEXSYNTH_PT_photo_material`): ``texsynth.photo_to_material``
+  under a hint line and its predicted time and memory at the default 1024;
 * **No Repetition** (:class:`TEXSYNTH_PT_norepeat`): ``texsynth.break_repetition`` with a
   hint on which mode suits the photo;
 * **Composite** (:class:`TEXSYNTH_PT_composite`): label image, segmentation, painted layout
@@ -23,7 +25,7 @@ import functools
 import bpy
 
 from .. import texsynth
-from . import composite, estimate, norepeat, output, properties, source
+from . import composite, estimate, norepeat, output, photo_material, properties, source
 
 
 class SidebarPanel:
@@ -159,6 +161,31 @@ class TEXSYNTH_PT_material(SidebarPanel, bpy.types.Panel):
             "COLUMN"
 
 
+@functools.lru_cache(maxsize=16)
+def _material_prediction(shape):
+    """``texsynth.material.pipeline.predict`` at the operator's default size on the idle
+    machine, kept per photo size (the load is applied at each draw)."""
+    seconds, need = texsynth.material.pipeline.predict(shape, size=(1024, 1024))
+    return seconds / texsynth.budget.machine_factor(), need
+
+
+class TEXSYNTH_PT_photo_material(SidebarPanel, bpy.types.Panel):
+    """Under the Texture Synthesis panel: the whole material from the photo, in one button."""
+
+    bl_label = "Photo to Material"
+    bl_parent_id = "TEXSYNTH_PT_synthesize"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.label(text=photo_material.HINT, icon="INFO")
+        found = _source_or_reason(layout, context)
+        shape = _source_shape(found)
+        if shape is not None:
+            seconds, need = _material_prediction(shape)
+            _draw_cost(layout, seconds * texsynth.budget.machine_factor(), need)
+        layout.operator("texsynth.photo_to_material", icon="MATERIAL")
+
+
 class TEXSYNTH_PT_norepeat(SidebarPanel, bpy.types.Panel):
     """Under the Texture Synthesis panel: ``texsynth.break_repetition`` and which mode suits
     which photo."""
@@ -274,7 +301,8 @@ class TEXSYNTH_PT_plane_view3d(PlanePanel, bpy.types.Panel):
     bl_space_type = "VIEW_3D"
 
 
-classes = (TEXSYNTH_PT_synthesize, TEXSYNTH_PT_material, TEXSYNTH_PT_norepeat,
+classes = (TEXSYNTH_PT_synthesize, TEXSYNTH_PT_material, TEXSYNTH_PT_photo_material,
+           TEXSYNTH_PT_norepeat,
            TEXSYNTH_PT_composite,
            TEXSYNTH_PT_plane_image, TEXSYNTH_PT_plane_view3d)
 register, unregister = bpy.utils.register_classes_factory(classes)

@@ -173,6 +173,48 @@ def registry_settings(*method_names: str):
     return decorate
 
 
+def photo_material_settings(cls):
+    """Class decorator: the settings of ``texsynth.photo_to_material`` (every one
+    ``SKIP_SAVE``: a run left unset takes the defaults, not the last run's)."""
+    options = {"SKIP_SAVE"}
+    steps = [(s.upper(), s.title(), text) for s, text in zip(texsynth.material.pipeline.STEPS, (
+        "Rectify by the plane estimate (or the rectangle's corners)",
+        "Re-synthesize the masked pixels from the rest of the photo",
+        "Take out the light: a window's ramp, vignetting, a soft shadow",
+        "Make the colour tile (its own size), or synthesize it to Size",
+        "Derive normal, height, roughness and ambient occlusion from the colour"), strict=True)]
+    cls.__annotations__ = {**inspect.get_annotations(cls), **{
+        "filepath": bpy.props.StringProperty(
+            name="Photo File", subtype="FILE_PATH", default="", options=options,
+            description="A photo file to make the material from; empty: the active Image "
+                        "Texture node's image"),
+        "size": bpy.props.IntProperty(
+            name="Size", default=1024, min=0, soft_max=4096, subtype="PIXEL", options=options,
+            description="Side of the material's maps in pixels; 0: the rectified photo made to "
+                        "tile at its own size"),
+        "steps": bpy.props.EnumProperty(
+            name="Steps", items=steps, options=options | {"ENUM_FLAG"},
+            default={s[0] for s in steps}, description="The steps to run (each can be left out)"),
+        "mask": bpy.props.StringProperty(
+            name="Mask", default="", options=options,
+            description="An image of the photo's size, white where the photo is to be healed "
+                        "(a sign, a stain); empty: only a varying alpha of the photo is healed"),
+        "use_corners": bpy.props.BoolProperty(
+            name="Use Rectangle Corners", default=False, options=options,
+            description="Rectify by the rectangle placed with Place Corners (Plane from "
+                        "Texture), not by the plane estimate"),
+        "seed": bpy.props.IntProperty(
+            name="Seed", min=0, default=0, options=options,
+            description="Same photo, settings and seed give the same material"),
+        "output": bpy.props.EnumProperty(name="Output", items=OUTPUT_ITEMS, default="PACK",
+                                         options=options),
+        "output_dir": bpy.props.StringProperty(
+            name="Output Directory", subtype="DIR_PATH", default="//",
+            options=options | _BLEND_RELATIVE),
+    }}
+    return cls
+
+
 # --- reading the settings ------------------------------------------------------------------
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 from . import algorithms, budget, validation
 from .algorithms import composite, cooccurrence
 from .algorithms.composite import segmentation
+from . import material
 from .api import synthesize, synthesize_positions
 from .plane import PlaneEstimate, camera_pose, estimate_plane, focal_px_from_file, rectify
 from .positions import apply_positions, positions_image
@@ -40,6 +41,7 @@ __all__ = [
     "cooccurrence",
     "composite",
     "segmentation",
+    "material",
     "methods",
     "get_method",
     "Cancelled",

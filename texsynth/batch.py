@@ -26,9 +26,11 @@ The properties a batch keeps:
 
 A manifest has a header row and these columns (only ``photo`` is required; an empty cell takes
 the command line's value): ``photo``, ``maps`` (other maps of the material, ``;``-separated),
-``operation`` (``synthesize`` or ``tile``), ``method``, ``size`` (``N`` or ``WxH``), ``seed``,
-``band``, ``in_size`` (``N`` or ``WxH``: the photo resampled first), ``params``
-(``name=value;...``). Paths are relative to the manifest's folder.
+``operation`` (``synthesize``, ``tile`` or ``material``), ``method``, ``size`` (``N`` or
+``WxH``), ``seed``, ``band``, ``in_size`` (``N`` or ``WxH``: the photo resampled first),
+``params`` (``name=value;...``), and for ``material`` ``mask`` (white: to heal) and
+``corners`` (``x1,y1,...,x4,y4``: rectify by that rectangle). Paths are relative to the
+manifest's folder.
 """
 
 from __future__ import annotations
@@ -56,6 +58,7 @@ from .jobs import (
     default_bits,
     is_done,
     key,
+    material_job,
     parse_in_size,
     parse_size,
     preflight,
@@ -153,6 +156,8 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
         if not row.get("photo"):
             continue
         row["photo"] = str(path.parent / row["photo"])
+        if row.get("mask"):
+            row["mask"] = str(path.parent / row["mask"])
         if row.get("maps"):
             row["maps"] = ";".join(str(path.parent / m.strip())
                                    for m in row["maps"].split(";") if m.strip())
@@ -191,6 +196,10 @@ def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
     bits = d.bits or default_bits(photo)
     jobs = []
     for operation in operations:
+        if operation == "material":
+            jobs.append(_material(where, row, out_dir, d, photo, (width, height), seed,
+                                  in_size, bits))
+            continue
         if operation == "tile":
             tag = f"_tile_s{seed}" + ("" if band is None else f"_b{band}")
         else:
@@ -203,6 +212,25 @@ def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
                         params=tuple(sorted(params.items())), bits=bits, data=d.data,
                         outputs=outputs, in_size=in_size, origin=where))
     return jobs
+
+
+def _material(where, row, out_dir, d, photo, size, seed, in_size, bits) -> Job:
+    """A row's ``material`` task: the photo (and the row's ``mask``, its ``corners``
+    x1,y1,...,x4,y4) to ``<photo>_material_<W>x<H>_s<seed>_Color.png`` and its four maps."""
+    if row.get("maps"):
+        raise UsageError(f"{where}: maps: a material derives its own maps; name a mask to "
+                         "heal in the mask column")
+    corners = (_value(where, "corners", row["corners"],
+                      lambda t: [float(v) for v in t.split(",")])
+               if row.get("corners") else None)
+    stem = f"{photo.stem}_material_{size[0]}x{size[1]}_s{seed}"
+    if in_size is not None:
+        stem += f"_in{in_size[0]}" + (f"x{in_size[1]}" if in_size[1] else "")
+    return material_job(str(photo), out_dir, mask=row.get("mask") or None, size=size,
+                        corners=corners, method=row.get("method") or d.method, seed=seed,
+                        bits=bits, fmt=d.format or ("exr" if photo.suffix.lower() == ".exr"
+                                                    else "png"),
+                        stem=stem, in_size=in_size, origin=where)
 
 
 def _params_tag(params: dict) -> str:

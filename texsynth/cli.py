@@ -4,6 +4,7 @@
     texsynth tile PHOTO -o OUT [--band B] [--maps MAP ...]
     texsynth estimate PHOTO [--focal-px F]          (the plane as JSON on stdout)
     texsynth rectify PHOTO -o OUT [--focal-px F]
+    texsynth material PHOTO -o DIR [--size N] [--mask MASK] [--corners X1,Y1,...] [--skip S]
     texsynth batch DIR_OR_MANIFEST -o OUTDIR [--operation ...] [--scheduler tcp://host:port]
     texsynth methods [--json]
 
@@ -44,12 +45,15 @@ from .jobs import (
     check_plan,
     default_bits,
     execute,
+    execute_material,
+    material_job,
     parse_in_size,
     parse_size,
     preflight,
     read_input,
     write_outputs,
 )
+from .material.pipeline import STEPS
 from .plane import (
     ESTIMATE_METHODS,
     estimate_plane,
@@ -343,6 +347,39 @@ def run_rectify(args, bar: Bar) -> None:
     print(f"wrote {args.output}")
 
 
+def _corner_values(text: str | None):
+    """``--corners``: 8 numbers x1,y1,...,x4,y4, or :class:`UsageError`."""
+    if text is None:
+        return None
+    try:
+        xy = [float(v) for v in text.split(",")]
+    except ValueError:
+        xy = []
+    if len(xy) != 8:
+        raise UsageError(f"--corners must be 8 numbers x1,y1,x2,y2,x3,y3,x4,y4 (pixels, in order "
+                         f"around the rectangle), got {text!r}")
+    return xy
+
+
+def run_material(args, bar: Bar) -> None:
+    fmt = args.format or ("exr" if is_linear(args.photo) else "png")
+    job = material_job(str(args.photo), args.output, mask=args.mask, size=args.size,
+                       corners=_corner_values(args.corners), skip=args.skip or (),
+                       method=args.method, seed=args.seed,
+                       bits=args.bits or default_bits(args.photo), fmt=fmt)
+    check_plan([job])
+    ((seconds, peak),) = preflight([job])
+    if not args.quiet:
+        print(forecast_line(seconds, peak), file=sys.stderr)
+    bar.left = TimeLeft(seconds)
+    written, steps = execute_material(job, progress=bar)
+    bar.close()
+    for line in steps:  # said even with -q: a skipped rectify changes what the user gets
+        print(line, file=sys.stderr)
+    for path in written:
+        print(f"wrote {path}")
+
+
 def run_methods(args, bar: Bar) -> None:
     if args.json:
         listing = [{"name": m.name, "label": m.label, "description": m.description,
@@ -442,6 +479,33 @@ def build_parser() -> argparse.ArgumentParser:
                              help="resample the frontal view to this size (default: the "
                                   "photo's resolution at its centre)")
             _add_output_options(sub, maps=False)
+
+    sub = command("material", run_material,
+                  "a tiling material from a photo of a surface: rectified, healed, de-lit, "
+                  "made to tile, with normal (OpenGL), displacement, roughness and ambient "
+                  "occlusion maps, named as ambientCG's (Node Wrangler's Ctrl+Shift+T loads them)")
+    sub.add_argument("photo", type=Path, metavar="PHOTO")
+    sub.add_argument("-o", "--output", type=Path, required=True, metavar="DIR",
+                     help="output folder (made): PHOTO_Color, _NormalGL, _Displacement, "
+                          "_Roughness, _AmbientOcclusion")
+    sub.add_argument("--size", type=_size, default=None, metavar="N|WxH",
+                     help="synthesize the material to this size (default: the photo itself, "
+                          "rectified, made to tile at its own size)")
+    sub.add_argument("--mask", type=Path, default=None, metavar="MASK",
+                     help="an image of the photo's size, white where the photo is to be "
+                          "healed (a sign, a stain); a photo's varying alpha is healed too")
+    sub.add_argument("--corners", default=None, metavar="X1,Y1,...,X4,Y4",
+                     help="rectify by a rectangle on the surface: its four corners in order "
+                          "around it (pixels, x right, y down), not by the plane estimate")
+    sub.add_argument("--skip", nargs="+", choices=STEPS, default=None,
+                     metavar="STEP", help=f"leave steps out: {', '.join(STEPS)}")
+    sub.add_argument("--method", default=DEFAULT_METHOD, choices=[m.name for m in methods()],
+                     metavar="M", help=f"synthesis method for --size (default {DEFAULT_METHOD})")
+    sub.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    sub.add_argument("--bits", type=int, choices=(8, 16), default=None,
+                     help="PNG bit depth (default: the photo's)")
+    sub.add_argument("--format", choices=("png", "exr"), default=None,
+                     help="file format (default: EXR from EXR, else PNG)")
 
     sub = command("batch", run_batch, batch_module.__doc__.split("\n\n")[0])
     sub.add_argument("source", type=Path, metavar="DIR|MANIFEST",

@@ -48,6 +48,8 @@ from .io.files import (
     read_photo,
     write_image,
 )
+from .material import pipeline as material
+from .plane import focal_px_from_file
 from .positions import apply_positions
 from .registry import get_method, methods
 
@@ -55,7 +57,7 @@ __all__ = ["DEFAULT_METHOD", "EXIT_CODES", "OPERATIONS", "PHOTO_SUFFIXES", "KEYS
            "UsageError", "InputError", "OutputError", "RefusedError", "Job", "parse_size",
            "parse_in_size", "check_plan", "preflight", "check_folder", "read_input",
            "default_bits", "in_shape", "execute", "write_outputs", "run_job", "key", "is_done",
-           "version", "code_digest"]
+           "version", "code_digest", "material_job", "execute_material"]
 
 #: Exit status of the command line, each with one meaning.
 EXIT_CODES = {
@@ -72,7 +74,7 @@ EXIT_CODES = {
 #: The method when none is named: the README's "any photo, a look first".
 DEFAULT_METHOD = "multiscale_mrf"
 #: What a job can do with a photo.
-OPERATIONS = ("synthesize", "tile")
+OPERATIONS = ("synthesize", "tile", "material")
 #: Files taken as photos (a folder's, and the suffixes an output must not take in its source).
 PHOTO_SUFFIXES = (".png", ".exr", ".jpg", ".jpeg", ".tif", ".tiff", ".webp")
 #: The folder of a batch's keys, inside the output folder.
@@ -141,7 +143,7 @@ class Job:
         fields = dict(operation=self.operation, seed=self.seed, bits=self.bits, data=self.data,
                       suffixes=[Path(o).suffix.lower() for o in self.outputs],
                       in_size=self.in_size)
-        if self.operation == "synthesize":
+        if self.operation in ("synthesize", "material"):
             fields.update(method=self.method, width=self.width, height=self.height,
                           params=dict(self.params))
         else:
@@ -336,6 +338,8 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
         raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
                          f"{job.operation!r}")
     try:
+        if job.operation == "material":
+            return _check_material(job, shape)
         if job.operation == "tile":
             band, _ = tileable.check(shape, band=job.band, seed=job.seed)
             return tileable.predict(shape, band)
@@ -387,6 +391,8 @@ def execute(job: Job, progress: Callable[[float, str], object] | None = None) ->
     to temporary files in their folders and renamed over their names only when all are
     complete.
     """
+    if job.operation == "material":
+        return execute_material(job, progress)[0]
     photo = read_input(job.photo)
     maps = [read_input(path) for path in job.maps]
     if job.in_size is not None:
@@ -442,6 +448,79 @@ def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
     finally:
         for temp in temps:
             Path(temp).unlink(missing_ok=True)
+
+
+# --- the material operation (issue 43): texsynth.material's pipeline over one photo ---------
+
+def material_job(photo: str, folder, *, mask: str | None = None, size=None, corners=None,
+                 skip=(), method: str = DEFAULT_METHOD, seed: int = 0, bits: int = 8,
+                 fmt: str = "png", stem: str | None = None, in_size=None,
+                 origin: str = "") -> Job:
+    """The job that makes ``photo`` (and its ``mask``) into the files of a material in
+    ``folder`` (``texsynth.material.pipeline.material_files``: ``<stem>_Color`` and, unless
+    the maps are skipped, the four maps), the ``skip``-ped steps left out; ``size`` (width,
+    height) synthesizes the colour, None makes the photo itself tile.
+
+    Examples
+    --------
+    >>> [Path(o).name for o in material_job("floor.jpg", "out").outputs][:2]
+    ['floor_Color.png', 'floor_NormalGL.png']
+    """
+    steps = tuple(s for s in material.STEPS if s not in set(skip))
+    suffixes = material.SUFFIXES if "maps" in steps else material.SUFFIXES[:1]
+    stem = stem or Path(photo).stem
+    params = (("corners", None if corners is None else tuple(map(float, corners))),
+              ("format", fmt), ("size", None if size is None else tuple(size)),
+              ("steps", steps))
+    return Job(photo=str(photo), maps=() if mask is None else (str(mask),),
+               outputs=tuple(str(Path(folder) / f"{stem}_{s}.{fmt}") for s in suffixes),
+               operation="material", method=method, seed=seed, params=params, bits=bits,
+               in_size=in_size, origin=origin)
+
+
+def _check_material(job: Job, shape) -> tuple[float, float]:
+    """``material.check`` on the photo's shape: the material's predicted (seconds, bytes)."""
+    p = dict(job.params)
+    if p["format"] not in ("png", "exr"):
+        raise UsageError(f"{job.at('format')}: a material is written as png or exr, got "
+                         f"{p['format']!r}")
+    if p["corners"] is not None and len(p["corners"]) != 8:
+        raise UsageError(f"{job.at('corners')}: 8 numbers x1,y1,...,x4,y4 (pixels, in order "
+                         f"around the rectangle), got {len(p['corners'])}")
+    return material.check(shape, size=p["size"], steps=p["steps"], method=job.method,
+                          seed=job.seed, masked=bool(job.maps))
+
+
+def execute_material(job: Job, progress=None) -> tuple[list[str], tuple[str, ...]]:
+    """:func:`execute` of a material job, and the pipeline's line per step (what each did).
+
+    The photo (and mask) read, the EXIF focal length and the corners scaled with ``in_size``,
+    the pipeline run, every map checked finite and the set written as :func:`write_outputs`
+    does (all or nothing).
+    """
+    photo = read_input(job.photo)
+    mask = read_input(job.maps[0]) if job.maps else None
+    focal = focal_px_from_file(job.photo)
+    p = dict(job.params)
+    corners = p["corners"]
+    if job.in_size is not None:
+        h, w, _ = in_shape(photo.shape, job.in_size)
+        scale = w / photo.shape[1]
+        focal = None if focal is None else focal * scale
+        corners = None if corners is None else tuple(v * scale for v in corners)
+        photo = resample(photo, w, h)
+        mask = None if mask is None else resample(mask, w, h)
+    made = material.photo_to_material(
+        photo, size=p["size"], mask=None if mask is None else mask[:, :, 0] >= 0.5,
+        corners=None if corners is None else np.reshape(corners, (4, 2)), focal_px=focal,
+        steps=p["steps"], method=job.method, seed=job.seed, progress=progress)
+    first = Path(job.outputs[0])
+    files = material.material_files(made, first.parent, first.stem[:-len("_Color")],
+                                    fmt=p["format"], from_linear=is_linear(job.photo))
+    for path, image in files:
+        _finite(image, str(path))
+    write_outputs([(str(path), image) for path, image in files], job.bits)
+    return [str(path) for path, _ in files], made.steps
 
 
 # --- 4. keys: resume ------------------------------------------------------------------------

@@ -15,6 +15,7 @@ EXPECTED = {
                                "texsynth.synthesize", "band", "texsynth.make_tileable"},
     "TEXSYNTH_PT_material": {"texsynth.synthesize_material"},
     "TEXSYNTH_PT_norepeat": {"texsynth.break_repetition"},
+    "TEXSYNTH_PT_photo_material": {"texsynth.photo_to_material"},
     "TEXSYNTH_PT_composite": {"label_image", "output_labels", "texsynth.segment",
                               "texsynth.synthesize_composite"},
     "TEXSYNTH_PT_plane_image": {"method", "slant", "tilt", "confidence",

@@ -1,0 +1,131 @@
+"""A phone photo to a material, on the command line (issue 43): `texsynth material` against
+`texsynth tile` on the same 12 MP JPEG, each step's share, the maps' size and wrap.
+
+The photo is :mod:`benchmarks.phone_photo`'s (granite setts seen at 30 degrees through a
+26 mm-equivalent lens, a window's ramp and vignetting, JPEG with its EXIF focal length). Each
+command runs in its own process under ``/usr/bin/time`` (wall and CPU seconds, peak resident
+memory), tile, material, tile again, so that both see the same load on a shared machine; the
+CPU time (user + system, every thread) is the fairer ratio there, the wall time what a user
+waits. The steps' shares: the pipeline run once more in this process, each progress report
+timed and given to the step whose span holds it (the spans are the steps' predicted times).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from texsynth import metrics
+from texsynth.io import read_photo
+from texsynth.material import pipeline
+from texsynth.plane import focal_px_from_file
+
+from ..context import REPO
+from ..phone_photo import phone_photo
+
+ORDER = 59
+TITLE = "Photo to material: a 12 MP phone JPEG to a 1024 material (issue 43)"
+SIZE = 1024
+GOAL_RATIO = 3.0  # material over tile, the same photo
+SEAM = (0.8, 1.25)
+
+
+def _timed(args: list[str]) -> dict:
+    """Wall, CPU seconds and peak MiB of ``python -m texsynth ARGS`` (its stderr kept)."""
+    with tempfile.NamedTemporaryFile("r", suffix=".txt") as out:
+        proc = subprocess.run(["/usr/bin/time", "-o", out.name, "-f", "%e %U %S %M",
+                               sys.executable, "-m", "texsynth", *args], cwd=REPO,
+                              capture_output=True, text=True, check=False)
+        if proc.returncode:
+            raise RuntimeError(proc.stderr.strip().splitlines()[-1])
+        wall, user, system, kib = Path(out.name).read_text().split()[-4:]
+    return {"wall": float(wall), "cpu": float(user) + float(system), "mib": int(kib) / 1024,
+            "stderr": proc.stderr}
+
+
+def _steps(photo: np.ndarray, focal: float, side: int):
+    """The material of one in-process run, and (wall, CPU) seconds per step from its timed
+    progress reports (CPU: this process's, every thread)."""
+    costs = pipeline._costs(photo.shape, (side, side), pipeline.STEPS, None, False)
+    ends = np.cumsum([s for s, _ in costs.values()]) / sum(s for s, _ in costs.values())
+    reports = []
+    start = (time.perf_counter(), time.process_time())
+    made = pipeline.photo_to_material(
+        photo, size=(side, side), focal_px=focal,
+        progress=lambda f, m: reports.append((time.perf_counter(), time.process_time(), f)))
+    taken = {step: [0.0, 0.0] for step in costs}
+    last = start
+    for wall, cpu, fraction in reports:  # the time up to a report is the step's it is in
+        step = list(costs)[min(int(np.searchsorted(ends, fraction - 1e-9)), len(costs) - 1)]
+        taken[step][0] += wall - last[0]
+        taken[step][1] += cpu - last[1]
+        last = (wall, cpu)
+    return made, taken
+
+
+def run(ctx) -> str:
+    path = phone_photo()
+    photo = read_photo(path)
+    focal = focal_px_from_file(path)
+    h, w = photo.shape[:2]
+    side = 512 if ctx.quick else SIZE
+    with tempfile.TemporaryDirectory() as tmp:
+        tile1 = _timed(["tile", str(path), "-o", f"{tmp}/tile.png"])
+        made = _timed(["material", str(path), "-o", f"{tmp}/mat", "--size", str(side)])
+        tile2 = _timed(["tile", str(path), "-o", f"{tmp}/tile2.png"])
+    predicted = made["stderr"].split("predicted: about ")[1].split(" peak")[0]
+    steps_told = [line for line in made["stderr"].splitlines()
+                  if line.split(":")[0] in pipeline.STEPS]
+    tile = {k: (tile1[k] + tile2[k]) / 2 for k in ("wall", "cpu")}
+    ratio_wall, ratio_cpu = made["wall"] / tile["wall"], made["cpu"] / tile["cpu"]
+
+    def mark(value, ok):
+        return f"{value:.2f} {'✓' if ok else '✗'}"
+
+    lines = [
+        f"The photo: {w} x {h} JPEG made by `benchmarks/phone_photo.py` (granite setts, "
+        "0ad-data, CC-BY-SA-3.0, seen at 30 deg through a 26 mm-equivalent lens under a "
+        "window's ramp and vignetting; EXIF focal length). Each command in its own process "
+        "(`/usr/bin/time`: wall, CPU = user + system of every thread, peak resident memory), "
+        "tile, material, tile again on a shared machine; the goal is the material in at most "
+        f"{GOAL_RATIO:g}x the time of `texsynth tile` on the same photo.",
+        "",
+        "| command | wall s | CPU s | peak MiB | predicted |",
+        "|---|---:|---:|---:|---|",
+        f"| `texsynth tile PHOTO` (two runs) | {tile1['wall']:.0f}, {tile2['wall']:.0f} | "
+        f"{tile1['cpu']:.0f}, {tile2['cpu']:.0f} | {max(tile1['mib'], tile2['mib']):.0f} | |",
+        f"| `texsynth material PHOTO --size {side}` | {made['wall']:.0f} | {made['cpu']:.0f} | "
+        f"{made['mib']:.0f} | {predicted} |",
+        "",
+        f"Material over tile: wall {mark(ratio_wall, ratio_wall <= GOAL_RATIO)}, CPU "
+        f"{mark(ratio_cpu, ratio_cpu <= GOAL_RATIO)} (goal: at most {GOAL_RATIO:g}).",
+        "",
+        "What each step said: " + "; ".join(f"`{line}`" for line in steps_told) + ".",
+        "",
+        f"Every map {side} x {side} and tiling, from one more run of the pipeline in this "
+        "process (the same seed: the same maps as the command's, before their 8-bit "
+        f"quantization, which makes a smooth map's seam ratio meaningless; luminance; goal "
+        f"{SEAM[0]}-{SEAM[1]}), and each step's time in that run (its progress reports timed, "
+        "each given to the step whose span holds it):",
+        "",
+        "| map | size | seam ratio |",
+        "|---|---|---:|",
+    ]
+    material, taken = _steps(photo, focal, side)
+    images = {"Color": material.colour, "NormalGL": material.maps.normal * 0.5 + 0.5,
+              "Displacement": material.maps.height, "Roughness": material.maps.roughness,
+              "AmbientOcclusion": material.maps.ao}
+    for suffix, image in images.items():
+        seam = metrics.seam_ratio(image)
+        lines.append(f"| {suffix} | {image.shape[1]} x {image.shape[0]} | "
+                     f"{mark(seam, SEAM[0] <= seam <= SEAM[1])} |")
+    total = sum(cpu for _, cpu in taken.values())
+    lines += ["", "| step | wall s | CPU s | CPU share |", "|---|---:|---:|---:|"]
+    lines += [f"| {step} | {wall:.1f} | {cpu:.1f} | {cpu / total:.0%} |"
+              for step, (wall, cpu) in taken.items()]
+    return "\n".join(lines)

@@ -1,0 +1,74 @@
+"""texsynth.material's core: delight, heal, derive_maps (issue 43)."""
+
+import numpy as np
+import pytest
+
+from tests._images import smooth_noise
+from texsynth import metrics
+from texsynth.material import delight, derive_maps, heal
+
+
+def _albedo(side=96, seed=0):
+    return (0.25 + 0.5 * smooth_noise((side, side), seed, sigma=1.5)).astype(np.float32)
+
+
+def test_delight_takes_out_a_ramp_and_keeps_the_detail():
+    albedo = _albedo()
+    ramp = np.exp(np.linspace(-0.6, 0.6, albedo.shape[1], dtype=np.float32))[None, :, None]
+    out = delight(albedo * ramp)
+    assert out.shape == albedo.shape and out.dtype == np.float32
+    column = metrics.luminance(out).mean(axis=0)
+    truth = metrics.luminance(albedo).mean(axis=0)
+    lit = metrics.luminance(albedo * ramp).mean(axis=0)
+    assert np.ptp(column - truth) < 0.25 * np.ptp(lit - truth)
+    assert np.corrcoef(out.ravel(), albedo.ravel())[0, 1] > 0.93 > np.corrcoef(
+        (albedo * ramp).ravel(), albedo.ravel())[0, 1]
+    assert np.array_equal(out, delight(albedo * ramp))
+
+
+def test_heal_fills_only_the_mask_and_as_sharp():
+    photo = _albedo(80, seed=1)
+    mask = np.zeros(photo.shape[:2], bool)
+    mask[30:50, 25:55] = True
+    blemished = np.where(mask[:, :, None], np.float32(1.0), photo)
+    healed = heal(blemished, mask, seed=2)
+    assert healed.dtype == np.float32 and healed.shape == photo.shape
+    assert np.array_equal(healed[~mask], blemished[~mask])
+    assert healed[mask].max() <= photo.max() + 1e-6
+    inside = np.s_[30:50, 25:55]
+    ratio = metrics.mean_gradient(healed[inside], wrap=False) / metrics.mean_gradient(
+        photo[inside], wrap=False)
+    assert 0.75 < ratio < 1.25
+    assert np.array_equal(healed, heal(blemished, mask, seed=2))
+
+
+@pytest.mark.parametrize("mask, words", [
+    (np.zeros((32, 32), bool), "no pixel"),
+    (np.ones((32, 32), bool), "whole photo"),
+    (np.zeros((16, 32), bool), "photo's size"),
+])
+def test_heal_refuses_a_useless_mask(mask, words):
+    with pytest.raises(ValueError, match=words):
+        heal(np.zeros((32, 32, 3), np.float32), mask)
+
+
+def test_maps_are_unit_opengl_and_tile():
+    colour = _albedo(64, seed=3)
+    maps = derive_maps(colour)
+    assert maps.normal.shape == (64, 64, 3) and maps.normal.dtype == np.float32
+    assert np.allclose(np.linalg.norm(maps.normal, axis=2), 1.0, atol=1e-5)
+    for m in (maps.height, maps.roughness, maps.ao):
+        assert m.shape == (64, 64) and m.dtype == np.float32 and 0 <= m.min() <= m.max() <= 1
+    # a periodic colour gives periodic maps: rolling the colour rolls every map
+    rolled = derive_maps(np.roll(colour, (17, 5), axis=(0, 1)))
+    assert np.allclose(np.roll(maps.normal, (17, 5), axis=(0, 1)), rolled.normal, atol=1e-4)
+    assert np.allclose(np.roll(maps.ao, (17, 5), axis=(0, 1)), rolled.ao, atol=1e-4)
+    assert 0.7 < metrics.seam_ratio(maps.height) < 1.4
+
+
+def test_normal_follows_a_bright_ridge_in_opengl():
+    # a bright horizontal ridge: its side above (rows before it) faces up, +Y in OpenGL
+    y = np.arange(64)[:, None, None]
+    colour = np.broadcast_to(0.5 + 0.4 * np.cos(2 * np.pi * (y - 32) / 64), (64, 64, 3))
+    n = derive_maps(colour, low=1e4).normal
+    assert n[40, 10, 1] < 0 < n[24, 10, 1]

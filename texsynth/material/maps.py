@@ -1,0 +1,211 @@
+"""The maps of a material from its de-lit colour: height, normal (OpenGL), roughness, AO.
+
+- **height**: multi-scale luminance integration. Under the soft light of a de-lit photo a
+  surface is brighter where it stands out and darker in its cavities, at every scale, and the
+  relief of natural surfaces has a falling spectrum (amplitude ~ |f|^-beta, Mandelbrot's
+  fractional Brownian surfaces; Pentland 1984): the height's spectrum is the luminance's
+  weighted by |f|^-``ALPHA`` (the larger scales' relief restored, the finest scales' noise
+  damped), band-limited above ``LOW_TEXELS`` texel sizes (``texsynth.blocks.period``): the
+  colour's own variation over the whole photo is not relief. With ``ALPHA`` 0 this is the
+  plain luminance-gradient normal map (Crazybump, Materialize, GIMP's normal map filter).
+- **normal**: the height's gradient by spectral differentiation (periodic: exact on the torus),
+  n = (-s dh/dx, -s dh/dy_up, 1) / |.|, +Y up (OpenGL, Blender's convention), the strength s
+  set so that the root mean square slope is ``SLOPE`` (a height from colour has no unit: its
+  relief is made as steep as the training renders' and game sets' typical relief);
+- **ao**: horizon-based ambient occlusion of the height field (Bavoil, Sainz & Dimitrov 2008):
+  in ``DIRECTIONS`` directions the highest horizon elevation within a texel size, AO = 1 - the
+  mean sine of those elevations (cavities dark, ridges and flats 1);
+- **roughness**: the local root mean square of the height's detail finer than the texel size
+  (over ``TEXELS_ROUGH`` texel sizes), mapped to [``ROUGH_MIN``, 1] by its 99th percentile:
+  rough where the micro-relief is strong, smoother where the surface is even (no gloss can be
+  seen in a de-lit diffuse photo: this is a convention, stated, not a measurement).
+
+With ``wrap=True`` every filter is periodic (FFT, rolls), so a tiling colour gives tiling maps;
+``wrap=False`` takes the colour's periodic component first (Moisan 2011), so its edges do not
+ring, and shifts clamp at the edges.
+
+Deviations, one line each: the height is a heuristic shape-from-shading (no light direction is
+assumed: a de-lit photo has none), its scale the normal's strength; ``ALPHA``, ``SLOPE`` and
+``LOW_TEXELS`` were tuned on Cycles renders of displaced surfaces and held out on others
+(``benchmarks/sections/material.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft as sfft
+from scipy.ndimage import uniform_filter
+
+from .. import validation
+from ..blocks.period import texel_size
+from ..blocks.periodic import periodic_component
+
+__all__ = ["Maps", "derive_maps", "height_from_colour", "normal_from_height"]
+
+#: The luminance spectrum's weight exponent for the height (|f|^-ALPHA).
+ALPHA = 0.8
+#: Root mean square slope of the normal map (tan of the relief's typical tilt).
+SLOPE = 0.3
+#: Wavelengths longer than this many texel sizes are left out of the height.
+LOW_TEXELS = 8.0
+#: Finest wavelength kept (pixels): the Nyquist band's noise damped.
+FINE = 2.0
+#: Horizon directions of the AO.
+DIRECTIONS = 8
+#: The roughness window (texel sizes) and its lower bound.
+TEXELS_ROUGH, ROUGH_MIN = 1.0, 0.4
+
+
+@dataclass(frozen=True)
+class Maps:
+    """A material's maps, each (H, W) float32 in [0, 1] but ``normal`` (H, W, 3) unit vectors,
+    OpenGL convention (+X right, +Y up, +Z out of the surface)."""
+
+    normal: np.ndarray
+    height: np.ndarray
+    roughness: np.ndarray
+    ao: np.ndarray
+
+
+def _frequencies(h: int, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cycles per pixel of the real FFT's grid: fy (h, 1), fx (1, w // 2 + 1)."""
+    return sfft.fftfreq(h)[:, None], sfft.rfftfreq(w)[None, :]
+
+
+def _luminance(a: np.ndarray) -> np.ndarray:
+    if a.shape[2] >= 3:
+        return a[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+    return a[:, :, 0].astype(np.float64)
+
+
+def height_from_colour(colour, *, alpha: float = ALPHA, low: float | None = None,
+                       wrap: bool = True) -> np.ndarray:
+    """The relative height (H, W) float64, zero mean, of ``colour`` (H, W, C): its luminance's
+    spectrum times |f|^-alpha, band-limited to wavelengths between ``FINE`` pixels and ``low``
+    (default ``LOW_TEXELS`` texel sizes).
+
+    Examples
+    --------
+    >>> x = np.arange(64)
+    >>> bumps = (0.5 + 0.2 * np.sin(2 * np.pi * x / 16))[None, :, None].repeat(64, 0)
+    >>> h = height_from_colour(bumps)
+    >>> bool(np.corrcoef(h[0], bumps[0, :, 0])[0, 1] > 0.99)
+    True
+    """
+    a = validation.image(colour, what="colour", channels=None)
+    y = _luminance(a)
+    if not wrap:
+        y = periodic_component(y)
+    h, w = y.shape
+    if low is None:
+        low = LOW_TEXELS * texel_size(a[:, :, :3] if a.shape[2] >= 3 else a[:, :, :1])
+    fy, fx = _frequencies(h, w)
+    f = np.hypot(fy, fx)
+    f[0, 0] = 1.0
+    weight = f ** -alpha
+    weight *= 1.0 - np.exp(-(f * low) ** 2 / 2)  # wavelengths past ``low`` faded out
+    weight *= np.exp(-(f * FINE) ** 2 / 2)
+    weight[0, 0] = 0.0
+    return sfft.irfft2(sfft.rfft2(y) * weight, s=(h, w))
+
+
+def normal_from_height(height: np.ndarray, *, slope: float | None = SLOPE,
+                       strength: float | None = None) -> np.ndarray:
+    """Unit normals (H, W, 3) float32, OpenGL (+Y up), of the periodic ``height`` (H, W) by
+    spectral differentiation; the strength s scales the height (default: the root mean square
+    slope made ``slope``).
+
+    Examples
+    --------
+    >>> x = np.arange(32)
+    >>> n = normal_from_height(np.sin(2 * np.pi * x / 32)[None, :].repeat(32, 0), strength=1.0)
+    >>> bool(np.allclose(np.linalg.norm(n, axis=2), 1, atol=1e-6)), bool(n[0, 0, 0] < 0)
+    (True, True)
+    """
+    h, w = height.shape
+    fy, fx = _frequencies(h, w)
+    spectrum = sfft.rfft2(height)
+    dx = sfft.irfft2(spectrum * (2j * np.pi * fx), s=(h, w))
+    dy = sfft.irfft2(spectrum * (2j * np.pi * fy), s=(h, w))  # down the rows
+    if strength is None:
+        rms = float(np.sqrt((dx ** 2 + dy ** 2).mean()))
+        strength = slope / rms if rms > 0 else 0.0
+    n = np.stack([-strength * dx, strength * dy, np.ones_like(dx)], axis=2)  # y up: -d/drow
+    return (n / np.linalg.norm(n, axis=2, keepdims=True)).astype(np.float32)
+
+
+def _shift(a: np.ndarray, di: int, dj: int, wrap: bool) -> np.ndarray:
+    """a[i + di, j + dj]: on the torus, or clamped at the edges."""
+    if wrap:
+        return np.roll(a, (-di, -dj), axis=(0, 1))
+    h, w = a.shape
+    i = np.clip(np.arange(h) + di, 0, h - 1)
+    j = np.clip(np.arange(w) + dj, 0, w - 1)
+    return a[i][:, j]
+
+
+def _ao(z: np.ndarray, reach: float, wrap: bool) -> np.ndarray:
+    """Bavoil et al. 2008's horizon-based AO of the height ``z`` in pixels."""
+    distances = np.unique(np.round(np.geomspace(1, max(1.0, reach), 6)).astype(int))
+    occlusion = np.zeros_like(z)
+    for k in range(DIRECTIONS):
+        t = 2 * np.pi * k / DIRECTIONS
+        horizon = np.zeros_like(z)
+        for d in distances:
+            di, dj = int(round(d * np.sin(t))), int(round(d * np.cos(t)))
+            rise = _shift(z, di, dj, wrap) - z
+            horizon = np.maximum(horizon, rise / np.hypot(np.hypot(di, dj), rise))
+        occlusion += horizon
+    return 1.0 - occlusion / DIRECTIONS
+
+
+def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA, slope: float = SLOPE,
+                low: float | None = None) -> Maps:
+    """Height, normal (OpenGL), roughness and AO of a de-lit ``colour`` (H, W) or (H, W, C).
+
+    Parameters
+    ----------
+    colour : array (H, W) or (H, W, C), the de-lit colour (``texsynth.material.delight``).
+    wrap : every filter periodic (a tiling colour gives tiling maps); False for a photo that
+        does not tile.
+    alpha : the luminance spectrum's exponent for the height (0: height = luminance).
+    slope : the normal map's root mean square slope.
+    low : longest wavelength of the height (pixels; default ``LOW_TEXELS`` texel sizes).
+
+    References
+    ----------
+    Pentland 1984, "Fractal-based description of natural scenes" (relief with a falling
+    spectrum); Frankot & Chellappa 1988, "A method for enforcing integrability in shape from
+    shading algorithms" (height and gradients on the Fourier grid); Bavoil, Sainz & Dimitrov
+    2008, "Image-space horizon-based ambient occlusion"; Moisan 2011 (periodic component).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> colour = rng.random((64, 64, 3)).astype(np.float32)
+    >>> maps = derive_maps(colour)
+    >>> maps.normal.shape, maps.height.dtype, bool(maps.height.min() >= 0 and maps.ao.max() <= 1)
+    ((64, 64, 3), dtype('float32'), True)
+    """
+    a = validation.image(colour, what="colour", channels=None)
+    slope = validation.number(slope, "slope", 0.0, 10.0)
+    alpha = validation.number(alpha, "alpha", 0.0, 2.0)
+    texel = texel_size(a[:, :, :3] if a.shape[2] >= 3 else a[:, :, :1])
+    z = height_from_colour(a, alpha=alpha, low=LOW_TEXELS * texel if low is None else low,
+                           wrap=wrap)
+    normal = normal_from_height(z, slope=slope)
+    # The height in pixels at the normal's strength: its slopes are the normal's.
+    rms = float(np.sqrt(np.mean(np.square(np.gradient(z)))) * np.sqrt(2))
+    z_px = z * (slope / rms if rms > 0 else 0.0)
+    span = float(np.ptp(z))
+    height = ((z - z.min()) / span if span > 0 else np.full_like(z, 0.5)).astype(np.float32)
+    ao = np.clip(_ao(z_px, texel, wrap), 0.0, 1.0).astype(np.float32)
+    box = max(3, int(round(TEXELS_ROUGH * texel)))
+    mode = "wrap" if wrap else "nearest"
+    detail = z_px - uniform_filter(z_px, box, mode=mode)
+    local = np.sqrt(uniform_filter(detail ** 2, box, mode=mode))
+    top = float(np.percentile(local, 99))
+    rough = ROUGH_MIN + (1 - ROUGH_MIN) * np.clip(local / top if top > 0 else 0 * local, 0, 1)
+    return Maps(normal=normal, height=height, roughness=rough.astype(np.float32), ao=ao)
