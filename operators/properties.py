@@ -210,7 +210,7 @@ def photo_material_settings(cls):
                                          options=options),
         "output_dir": bpy.props.StringProperty(
             name="Output Directory", subtype="DIR_PATH", default="//",
-            options=options | _BLEND_RELATIVE),
+            options=options | BLEND_RELATIVE),
     }}
     return cls
 

@@ -51,7 +51,7 @@ def _timed(args: list[str]) -> dict:
 def _steps(photo: np.ndarray, focal: float, side: int):
     """The material of one in-process run, and (wall, CPU) seconds per step from its timed
     progress reports (CPU: this process's, every thread)."""
-    costs = pipeline._costs(photo.shape, (side, side), pipeline.STEPS, None, False)
+    costs = pipeline.step_costs(photo.shape, (side, side), pipeline.STEPS, None, False)
     ends = np.cumsum([s for s, _ in costs.values()]) / sum(s for s, _ in costs.values())
     reports = []
     start = (time.perf_counter(), time.process_time())

@@ -158,7 +158,7 @@ def check(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None 
     return seconds, peak
 
 
-def _costs(shape, size, steps, method, masked) -> dict[str, tuple[float, float]]:
+def step_costs(shape, size, steps, method, masked) -> dict[str, tuple[float, float]]:
     """Each step's predicted (seconds on this machine, peak bytes)."""
     h, w = shape[:2]
     c = shape[2] if len(shape) == 3 else 1
@@ -199,7 +199,7 @@ def predict(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | Non
     >>> seconds > predict((768, 1024, 3), size=(512, 512), steps=("tile",))[0]
     True
     """
-    costs = _costs(tuple(shape), size, _steps(steps), method, masked)
+    costs = step_costs(tuple(shape), size, _steps(steps), method, masked)
     held = 8 * shape[0] * shape[1] * (shape[2] if len(shape) == 3 else 1)
     return (sum(s for s, _ in costs.values()),
             held + max((p for _, p in costs.values()), default=0))
@@ -284,7 +284,7 @@ def photo_to_material(photo, *, size=None, mask=None, corners=None,
     keep = _keep_mask(a, mask) if "heal" in steps else None
     if keep is not None and keep.min() == 1.0:
         keep = None
-    costs = _costs(a.shape, size, steps, method, keep is not None)
+    costs = step_costs(a.shape, size, steps, method, keep is not None)
     ends = np.cumsum([seconds for seconds, _ in costs.values()] or [0.0])
     ends = list(ends / ends[-1] if ends[-1] > 0 else ends)
     spans = {name: Progress(progress, float(a), float(b)) for name, a, b
