@@ -90,7 +90,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
-from ..blocks import multigrid, region_shift
+from ..blocks import feature_distance, multigrid, region_shift
+from ..blocks.joints import Joints
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
 from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
@@ -122,6 +123,8 @@ SHIFT = 2
 ALIGN_PIXELS = 256 * 256
 #: Rounds of single region moves per level after the walk.
 SWEEPS = 1
+#: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
+FEATURE_WEIGHT = 2.0
 
 
 class _Level:
@@ -231,8 +234,20 @@ class _Level:
 
 
 def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
-                   random_candidates=2, levels=0, exemplar_tiles=False):
+                   random_candidates=2, levels=0, exemplar_tiles=False, joint_width=0.0,
+                   feature_weight=FEATURE_WEIGHT):
     """Synthesize (height, width, C) and its position map; see the module notes."""
+    joints = Joints.fit(exemplar, joint_width / 2) if joint_width > 0 else None
+    work = feature_distance.augment(exemplar, joints, feature_weight)
+    out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
+                                 random_candidates, levels, exemplar_tiles)
+    if work is exemplar:
+        return out, positions
+    return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
+
+
+def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_candidates,
+                levels, exemplar_tiles):
     h, w, c = exemplar.shape
     if min(h, w) < 2 * radius + 1:
         raise ValueError(f"the exemplar ({w} x {h}) is smaller than the neighbourhood "
@@ -397,6 +412,7 @@ def _memory(shape, width, height, params):
     visit need, and at the end the position pairs and colours: 26 + 4 C bytes a pixel); one
     chunk's rows; the alignment of the largest aligned grid (its K border pairs' indices, 16
     bytes each, its region graph, and ``region_shift.CHUNK`` gathers of C + 4 numbers)."""
+    shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, c = shape
     r = params["radius"]
     k = len(disk_offsets(r))
@@ -423,6 +439,7 @@ def _cost(shape, width, height, params):
     64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
     18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
+    shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, _ = shape
     return 0.1 + sum(_level_costs(shape, width, height, params)) + 8e-8 * h * w
 
@@ -472,6 +489,10 @@ METHOD = register(Method(
               "the neighbours' continuations", 0, 32),
         Param("levels", int, 0, "Multigrid levels (capped by the exemplar and output sizes); 0: "
               "enough for the coarsest neighbourhood to span the exemplar's texels", 0, 8),
+        Param("joint_width", float, 0.0, "Width (pixels) of the joints between the photo's "
+              "elements (bricks, setts, blocks); 0: none", 0.0, 64.0),
+        Param("feature_weight", float, FEATURE_WEIGHT, "Weight of the distance to the joints "
+              "in the neighbourhood match, against the colours", 0.0, 8.0),
         Param("exemplar_tiles", bool, False, "The exemplar itself tiles: neighbourhoods may "
               "wrap around its edges"),
     ),

@@ -94,6 +94,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import uniform_filter
 
+from ..blocks import feature_distance
+from ..blocks.joints import Joints
 from ..blocks.patchmatch import (
     BLOCK_ROWS,
     CELLS,
@@ -136,6 +138,8 @@ REACH_TEXELS = 4
 MIN_LEVELS = 3
 #: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
 SHIFT = 3
+#: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
+FEATURE_WEIGHT = 2.0
 #: The shortest straight cut between copies re-cut, and how far its new path may wander
 #: (pixels at the level).
 RUN, BAND = 16, 8
@@ -374,7 +378,8 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
 
 
 def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
-                         sizes=2, iterations=3, uniformity=2.0):
+                         sizes=2, iterations=3, uniformity=2.0, joint_width=0.0,
+                         feature_weight=FEATURE_WEIGHT):
     """Synthesize (height, width, C) and its position map; see the module notes."""
     if min(exemplar.shape[:2]) < patch_size:
         raise ValueError(f"the exemplar ({exemplar.shape[1]} x {exemplar.shape[0]}) is smaller "
@@ -383,8 +388,13 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
     if min(width, height) < patch_size:
         raise ValueError(f"the output ({width} x {height}) is smaller than the patch "
                          f"({patch_size} x {patch_size}); use a smaller patch size")
-    return optimize(exemplar, height, width, rng, progress, levels, patch_size, sizes,
-                    iterations, uniformity)
+    joints = Joints.fit(exemplar, joint_width / 2) if joint_width > 0 else None
+    work = feature_distance.augment(exemplar, joints, feature_weight)
+    out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
+                              iterations, uniformity)
+    if work is exemplar:
+        return out, positions
+    return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
 def _tables(shape, params):
@@ -403,6 +413,7 @@ def _memory(shape, width, height, params):
     the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
     descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
     12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
+    shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
     rows, cols = _tables(shape, params)[0]
     table = 4 * DIMS * rows * cols + 4 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
@@ -418,6 +429,7 @@ def _cost(shape, width, height, params):
     its labelling and seam costs over the level, about a third of the output's pixels a patch
     size). Fitted to 1024 -> 2048 from the 12 MP setts' centre, the 12 MP setts, the brick
     wall and the gravel (quiet: 77-91 s, the alignment 4-11 % of it; predicted 0.95-1.07x)."""
+    shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
     work = params["iterations"] / 3 * c / 3
     table = sum(r * k for r, k in _tables(shape, params))
@@ -444,6 +456,10 @@ METHOD = register(Method(
         Param("iterations", int, 3, "EM iterations per level and patch size", 1, 20),
         Param("uniformity", float, 2.0, "Weight lambda of the uniform patch usage term (0: off): "
               "higher repeats fewer favourite patches", 0.0, 10.0),
+        Param("joint_width", float, 0.0, "Width (pixels) of the joints between the photo's "
+              "elements (bricks, setts, blocks); 0: none", 0.0, 64.0),
+        Param("feature_weight", float, FEATURE_WEIGHT, "Weight of the distance to the joints "
+              "in the neighbourhood match, against the colours", 0.0, 8.0),
     ),
     min_exemplar=8,
     memory=_memory,
