@@ -69,7 +69,18 @@ gravel and the stochastic photos keep their level counts (and outputs);
 layered or jagged rock gain two (4 -> 6, 5 -> 7: a 512 crop of layered rock to 1024, gradient
 0.996 -> 1.005, seam 1.00 -> 1.03, longer layers, no new artefact seen).
 
+Joints that stop inside elements (issue 41): told the joints' width (``joint_width``, pixels),
+the exemplar gets one more channel, each pixel's signed distance to the nearest joint
+(``texsynth.blocks.feature_distance``, Lefebvre & Hoppe 2006, 4), ``feature_weight`` times the
+colours' standard deviation, so the patch distances, votes and alignment see where a patch lies
+in its element even where its pyramid level has averaged the joint away; the output copies the
+photo's pixels at the positions found. Dead-end ratio (``texsynth.metrics.dead_end_ratio``),
+512 -> 1024, seed 0: a 512 crop of the concrete pavers 2.07 without, 1.28 with (weight 4:
+1.31); the ashlar blocks (held out) 1.17 without, 1.07, 1.14, 1.20 (seeds 0-2) with.
+Without ``joint_width`` (the default) nothing changes.
+
 Deviations, one line each:
+- the feature distance is one more exemplar channel (Lefebvre & Hoppe: after a PCA);
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
 - each level and patch size ends with a non-averaged pass (Kaspar et al. 2015, 5): each pixel
