@@ -108,7 +108,6 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from ..blocks import feature_distance, multigrid, region_shift
-from ..blocks.joints import Joints
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
 from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
@@ -254,8 +253,7 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
                    random_candidates=2, levels=0, exemplar_tiles=False, joint_width=0.0,
                    feature_weight=FEATURE_WEIGHT):
     """Synthesize (height, width, C) and its position map; see the module notes."""
-    joints = Joints.fit(exemplar, joint_width / 2) if joint_width > 0 else None
-    work = feature_distance.augment(exemplar, joints, feature_weight)
+    work = feature_distance.augment(exemplar, joint_width, feature_weight)
     out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
                                  random_candidates, levels, exemplar_tiles)
     if work is exemplar:

@@ -106,7 +106,6 @@ import numpy as np
 from scipy.ndimage import uniform_filter
 
 from ..blocks import feature_distance
-from ..blocks.joints import Joints
 from ..blocks.patchmatch import (
     BLOCK_ROWS,
     CELLS,
@@ -399,8 +398,7 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
     if min(width, height) < patch_size:
         raise ValueError(f"the output ({width} x {height}) is smaller than the patch "
                          f"({patch_size} x {patch_size}); use a smaller patch size")
-    joints = Joints.fit(exemplar, joint_width / 2) if joint_width > 0 else None
-    work = feature_distance.augment(exemplar, joints, feature_weight)
+    work = feature_distance.augment(exemplar, joint_width, feature_weight)
     out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
                               iterations, uniformity)
     if work is exemplar:

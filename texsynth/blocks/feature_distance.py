@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from .joints import Joints
+from .joints import Joints, luma
 
 __all__ = ["feature_distance", "augment", "working_shape"]
 
@@ -31,9 +31,11 @@ __all__ = ["feature_distance", "augment", "working_shape"]
 QUANTILE = 0.98
 
 
-def feature_distance(photo: np.ndarray, joints: Joints) -> np.ndarray:
+def feature_distance(photo: np.ndarray, joints: Joints,
+                     mask: np.ndarray | None = None) -> np.ndarray:
     """The signed distance (photo pixels, float32, ``photo``'s height x width) from each pixel
-    to the nearest edge of ``photo``'s joints: positive inside elements, negative in joints.
+    to the nearest edge of ``photo``'s joints (``mask``, or ``joints.mask(photo)``): positive
+    inside elements, negative in joints.
 
     References
     ----------
@@ -47,7 +49,7 @@ def feature_distance(photo: np.ndarray, joints: Joints) -> np.ndarray:
     >>> bool(d[1, 10] < 0 < d[8, 10]), bool(d[8, 10] > d[5, 10])
     (True, True)
     """
-    mask = joints.mask(photo)
+    mask = joints.mask(photo) if mask is None else mask
     inside = ndimage.distance_transform_edt(~mask) - ndimage.distance_transform_edt(mask)
     h, w = photo.shape[:2]
     zoom = (h / mask.shape[0], w / mask.shape[1])
@@ -56,22 +58,36 @@ def feature_distance(photo: np.ndarray, joints: Joints) -> np.ndarray:
     return d[:h, :w]
 
 
-def augment(photo: np.ndarray, joints: Joints | None, weight: float) -> np.ndarray:
-    """``photo`` (H, W, C) with its feature distance as channel C + 1, clipped at its
-    ``QUANTILE`` and scaled to ``weight`` times the colours' standard deviation; ``photo``
-    itself (the same array) when there are no joints or ``weight`` is 0.
+def augment(photo: np.ndarray, joint_width: float, weight: float) -> np.ndarray:
+    """``photo`` (H, W, C) with its feature distance to the joints ``joint_width`` pixels wide
+    (read at half that width, ``Joints.fit``) as channel C + 1, clipped at its ``QUANTILE`` and
+    scaled to ``weight`` times the colours' standard deviation; ``photo`` itself (the same
+    array) when ``joint_width`` or ``weight`` is 0 or no joints are found (nothing changes).
+
+    Raises ValueError when the joints are wider than an eighth of the shorter side.
 
     Examples
     --------
     >>> i, j = np.mgrid[:96, :128]
     >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
     >>> wall = np.repeat(wall[:, :, None], 3, axis=2).astype(np.float32)
-    >>> augment(wall, Joints.fit(wall, sigma=1.5), 1.0).shape, augment(wall, None, 1.0) is wall
+    >>> augment(wall, 3.0, 2.0).shape, augment(wall, 0.0, 2.0) is wall
     ((96, 128, 4), True)
     """
-    if joints is None or weight <= 0:
+    if joint_width <= 0 or weight <= 0:
         return photo
-    d = feature_distance(photo, joints)
+    h, w = photo.shape[:2]
+    if joint_width > min(h, w) / 8:
+        raise ValueError(f"a joint width of {joint_width:g} px is too wide for the {w} x {h} "
+                         f"exemplar: at most an eighth of its shorter side ({min(h, w) / 8:g} "
+                         "px), or 0 for none")
+    if np.ptp(luma(photo)) == 0:  # a flat photo has no joints (and no threshold)
+        return photo
+    joints = Joints.fit(photo, joint_width / 2)
+    mask = joints.mask(photo)
+    if mask.all() or not mask.any():
+        return photo
+    d = feature_distance(photo, joints, mask)
     limit = np.quantile(np.abs(d), QUANTILE)
     d = np.clip(d, -limit, limit)
     d -= d.mean()
