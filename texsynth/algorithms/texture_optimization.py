@@ -75,8 +75,10 @@ the exemplar gets one more channel, each pixel's signed distance to the nearest 
 colours' standard deviation, so the patch distances, votes and alignment see where a patch lies
 in its element even where its pyramid level has averaged the joint away; the output copies the
 photo's pixels at the positions found. Dead-end ratio (``texsynth.metrics.dead_end_ratio``),
-512 -> 1024, seed 0: a 512 crop of the concrete pavers 2.07 without, 1.28 with (weight 4:
-1.31); the ashlar blocks (held out) 1.17 without, 1.07, 1.14, 1.20 (seeds 0-2) with.
+512 -> 1024: a 512 crop of the concrete pavers (seed 0) 2.07 without, 1.28 with (weight 4:
+1.31). Held out of the tuning, seeds 0-2: the ashlar blocks 1.17, 1.15, 1.07 without, 1.07,
+1.14, 1.20 with (no gain: the default already keeps them); a 512 crop of the aztec flagstones
+1.00, 1.45, 0.95 without, 1.07, 2.01, 1.10 with (worse on seed 1). CPU time 21-27 s either way.
 Without ``joint_width`` (the default) nothing changes.
 
 Deviations, one line each:
