@@ -72,8 +72,8 @@ ashlar blocks (held out of the tuning) 1.47, 1.75, 1.62 without, 1.26, 1.33, 1.3
 a 512 crop of the concrete pavers 2.58 (seed 0) without, 1.66, 1.65, 1.68 with; the
 generated wall (``benchmarks.manmade.bricks``) 1.86, 1.83 (seeds 1, 2) without, 1.05, 1.11,
 1.21 with; the CPU time the same (9.5-10.6 s both). The 2048 granite setts' 1024 crop
-(held out) to 2048, seed 0, joint width 32 px: 1.48 without, 1.07 with (CPU 28 s, 25 s). Fewer stubs, not none: the goal (1.25)
-is met on the generated wall only. Weight 4 instead of 2: pavers 1.60, 1.69, 1.48, the generated
+(held out) to 2048, seed 0, joint width 32 px: 1.48 without, 1.07 with (CPU 28 s, 25 s).
+Fewer stubs, not none: the goal (1.25) is met on the generated wall and the setts only. Weight 4 instead of 2: pavers 1.60, 1.69, 1.48, the generated
 wall 1.14, 1.14, 1.18 against 1.05, 1.11, 1.21. Without ``joint_width`` (the default) nothing
 changes.
 
