@@ -73,9 +73,9 @@ a 512 crop of the concrete pavers 2.58 (seed 0) without, 1.66, 1.65, 1.68 with; 
 generated wall (``benchmarks.manmade.bricks``) 1.86, 1.83 (seeds 1, 2) without, 1.05, 1.11,
 1.21 with; the CPU time the same (9.5-10.6 s both). The 2048 granite setts' 1024 crop
 (held out) to 2048, seed 0, joint width 32 px: 1.48 without, 1.07 with (CPU 28 s, 25 s).
-Fewer stubs, not none: the goal (1.25) is met on the generated wall and the setts only. Weight 4 instead of 2: pavers 1.60, 1.69, 1.48, the generated
-wall 1.14, 1.14, 1.18 against 1.05, 1.11, 1.21. Without ``joint_width`` (the default) nothing
-changes.
+Fewer stubs, not none: the goal (1.25) is met on the generated wall and the setts only.
+Weight 4 instead of 2: pavers 1.60, 1.69, 1.48, the generated wall 1.14, 1.14, 1.18 against
+1.05, 1.11, 1.21. Without ``joint_width`` (the default) nothing changes.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
