@@ -12,11 +12,14 @@ reads whatever share of gravel it crosses, the plain seam ratio and the band sha
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 from scipy import ndimage
 
-from texsynth import make_tileable, metrics
+from texsynth import make_tileable, metrics, synthesize
 from texsynth.blocks.joints import Joints
+from texsynth.blocks.periodic import periodic_component
 from texsynth.io import read_photo
 from texsynth.tileable import default_band, tiles
 
@@ -140,5 +143,115 @@ def run(ctx) -> str:
         *pictures,
         f"Full-resolution {VIEW} x {VIEW} crops around the corner where four tiles meet (the "
         "wrap's two seams cross in the middle): the photo as it is, then each seed's result.",
+        "",
+    ]) + "\n" + methods(ctx)
+
+
+#: The synthesis methods' table (issue 41, "Synthesis that places whole elements"): the
+#: README's picks for bricks, setts, tiles, from each photo to twice its size, by default and
+#: told the joints' width (``joint_width``: the feature-distance channel). The goals: dead-end
+#: ratio at most METHOD_DEAD_ENDS; the largest autocorrelation peak beyond REPEAT_SHIFT px at
+#: most the photo's own plus REPEAT_MARGIN.
+METHODS = ("multiscale_mrf", "texture_optimization")
+METHOD_SEEDS = tuple(range(3))
+METHOD_DEAD_ENDS, REPEAT_SHIFT, REPEAT_MARGIN = 1.25, 24, 0.1
+
+
+def _method_cases(quick: bool):
+    """(label, photo, the joints' half width in photo pixels, held out from tuning)."""
+    wall = ("generated wall 480 x 448", generated_wall, 1.5, False)
+    if quick:
+        return [wall]
+    return [
+        ("brick wall, centre 512", lambda: _large(photos.BRICKS, 512), 2.0, False),
+        ("concrete pavers, centre 512",
+         lambda: _large("nexuiz-textures/concrete_pavers.png", 512), 3.0, False),
+        wall,
+        ("ashlar blocks 512 (openarena stone_blocks_dark)",
+         lambda: _shared("openarena/stone_blocks_dark.png"), 2.0, True),
+        ("flagstones, centre 512 (pbr aztekWall)",
+         lambda: _shared("pbr/aztekWall_color.png", 512), 2.0, True),
+    ]
+
+
+def _shared(rel: str, side: int | None = None) -> np.ndarray:
+    image = np.ascontiguousarray(read_photo(SHARED_TEXTURES / rel)[:, :, :3], np.float32)
+    h, w = image.shape[:2]
+    side = side or min(h, w)
+    return np.ascontiguousarray(image[(h - side) // 2:(h - side) // 2 + side,
+                                      (w - side) // 2:(w - side) // 2 + side])
+
+
+def repeat_peak(image: np.ndarray, periodic: bool = True) -> float:
+    """The largest peak of the luminance's normalised autocorrelation at a shift of
+    ``REPEAT_SHIFT`` px or more (on the torus; a photo's periodic component when not
+    ``periodic``): how strongly the image repeats itself."""
+    y = metrics.luminance(image).astype(np.float64)
+    if not periodic:
+        y = periodic_component(y)
+    y = y - y.mean()
+    spectrum = np.abs(np.fft.rfft2(y)) ** 2
+    a = np.fft.irfft2(spectrum, s=y.shape)
+    a /= a.flat[0]
+    i = np.fft.fftfreq(y.shape[0], 1 / y.shape[0])[:, None]
+    j = np.fft.fftfreq(y.shape[1], 1 / y.shape[1])[None, :]
+    return float(a[np.hypot(i, j) >= REPEAT_SHIFT].max())
+
+
+def methods(ctx) -> str:
+    """The synthesis methods' table and crops (see ``METHODS``)."""
+    seeds = METHOD_SEEDS[:1] if ctx.quick else METHOD_SEEDS
+    table = ["| photo | held out | method | joint width | dead-end ratio | gradient ratio | "
+             "repeat peak (photo) | CPU s a seed | per seed: dead-end ratio |", "|---" * 9 + "|"]
+    pictures = []
+    for label, load, sigma, held in _method_cases(ctx.quick):
+        image = load()
+        h, w = image.shape[:2]
+        joints = Joints.fit(image, sigma)
+        own = repeat_peak(image, periodic=False)
+        rows = [[photos._corner(image, VIEW)] + [None] * (2 * len(seeds) - 1)]
+        for method in METHODS:
+            for width in (0.0, 2 * sigma):
+                dead, grad, peak, seconds, crops = [], [], [], [], []
+                for seed in seeds:
+                    start = time.process_time()
+                    out = synthesize(image, 2 * w, 2 * h, method=method, seed=seed,
+                                     joint_width=width)
+                    seconds.append(time.process_time() - start)
+                    dead.append(metrics.dead_end_ratio(image, out, sigma, joints))
+                    grad.append(metrics.gradient_ratio(image, out))
+                    peak.append(repeat_peak(out))
+                    crops.append(photos._corner(out, VIEW))
+                table.append(
+                    f"| **{label}** | {'yes' if held else 'no'} | {method} | "
+                    f"{f'{width:g} px' if width else 'none (default)'} | "
+                    f"{_mark(dead, 0.0, METHOD_DEAD_ENDS)} | {_range(grad)} | "
+                    f"{_mark(peak, -1.0, own + REPEAT_MARGIN)} ({own:.2f}) | "
+                    f"{np.median(seconds):.1f} | {' '.join(f'{d:.2f}' for d in dead)} |")
+                rows.append(crops)
+        name = "elements_methods_" + "_".join(
+            "".join(c if c.isalnum() else " " for c in label).split()[:3])
+        columns = [f"seed {s}" for s in seeds]
+        sheet = ctx.contact_sheet(f"{name}.png", columns, rows[1:], cell=VIEW)
+        pictures += [f"![{label}: rows multiscale_mrf default, told the joints, "
+                     f"texture_optimization default, told the joints; seeds {seeds[0]}-"
+                     f"{seeds[-1]}, around the wrap's crossing]({sheet})", ""]
+    return "\n".join([
+        "### Synthesis that places whole elements: multiscale_mrf and texture_optimization",
+        "",
+        f"Each photo to twice its size, seeds {seeds[0]}-{seeds[-1]}, by default and told the "
+        "joints' width (`joint_width`, twice the half width the measure reads: the "
+        "feature-distance channel of Lefebvre & Hoppe 2006, 4, `texsynth.blocks."
+        "feature_distance`). Held out: not looked at while the channel's weight was chosen. "
+        f"Goals: dead-end ratio at most {METHOD_DEAD_ENDS}; repeat peak (the luminance's "
+        f"largest autocorrelation beyond {REPEAT_SHIFT} px) at most the photo's own + "
+        f"{REPEAT_MARGIN}; ✓ all seeds met, ✗ not (met / seeds). Gradient ratio: sharpness "
+        "against the photo (1 = as sharp). CPU s: process time of one run (both cores' "
+        "threads), the median over seeds.",
+        "",
+        *table,
+        "",
+        *pictures,
+        f"Full-resolution {VIEW} x {VIEW} crops around the corner where four tiles meet.",
         "",
     ])

@@ -80,7 +80,10 @@ def _response(y: np.ndarray, sigma: float, wrap: bool) -> tuple[np.ndarray, np.n
 
 
 def _otsu(values: np.ndarray, bins: int = 256) -> float:
-    """Otsu 1979: the threshold that maximises the between-class variance of ``values``."""
+    """Otsu 1979: the threshold that maximises the between-class variance of ``values``
+    (their one value when they are all equal: nothing lies above it)."""
+    if np.ptp(values) == 0:
+        return float(values.flat[0])
     count, edges = np.histogram(values, bins)
     centre = (edges[:-1] + edges[1:]) / 2
     w0 = np.cumsum(count)
