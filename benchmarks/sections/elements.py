@@ -209,7 +209,7 @@ def methods(ctx) -> str:
         h, w = image.shape[:2]
         joints = Joints.fit(image, sigma)
         own = repeat_peak(image, periodic=False)
-        rows = [[photos._corner(image, VIEW)] + [None] * (2 * len(seeds) - 1)]
+        rows = [[photos.corner(image, VIEW)] + [None] * (2 * len(seeds) - 1)]
         for method in METHODS:
             for width in (0.0, 2 * sigma):
                 dead, grad, peak, seconds, crops = [], [], [], [], []
@@ -221,7 +221,7 @@ def methods(ctx) -> str:
                     dead.append(metrics.dead_end_ratio(image, out, sigma, joints))
                     grad.append(metrics.gradient_ratio(image, out))
                     peak.append(repeat_peak(out))
-                    crops.append(photos._corner(out, VIEW))
+                    crops.append(photos.corner(out, VIEW))
                 table.append(
                     f"| **{label}** | {'yes' if held else 'no'} | {method} | "
                     f"{f'{width:g} px' if width else 'none (default)'} | "
