@@ -115,7 +115,7 @@ def test_a_killed_worker_is_one_line(tmp_path, monkeypatch):
             return KilledWorker("texsynth-x", "tcp://127.0.0.1:1", allowed_failures=3)
 
     class Client:
-        def map(self, function, todo, key, pure):
+        def map(self, function, todo, job_keys, key, pure):
             assert function is batch.run_job
             return [Failed(k) for k in key]
 
