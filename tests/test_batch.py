@@ -91,9 +91,10 @@ def test_the_command_resumes_without_a_cluster(tmp_path, capsys):
     photos = _photos(tmp_path / "in", 2)
     for job in batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE))):
         batch.run_job(job)
-    code = cli.main(["-q", "batch", str(photos), "-o", str(tmp_path / "out"), "--size",
-                     str(SIZE)])
-    assert code == 0 and "2 already done" in capsys.readouterr().out
+    code = cli.main(["batch", str(photos), "-o", str(tmp_path / "out"), "--size", str(SIZE)])
+    printed = capsys.readouterr()
+    assert code == 0 and "2 already done" in printed.out
+    assert printed.err.startswith("predicted: about ") and " for 2 tasks\n" in printed.err
 
 
 @pytest.fixture
@@ -170,7 +171,8 @@ def test_a_task_run_again_after_its_worker_died_counts_once(tmp_path, monkeypatc
             return self._result
 
     class Client:
-        def map(self, function, todo, key, pure):
+        def map(self, function, todo, job_keys, key, pure):
+            assert job_keys == [batch.key(job) for job in todo]  # hashed once, by the batch
             self.futures = [Finished(k, "done") for k in key]
             return self.futures
 

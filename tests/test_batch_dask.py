@@ -89,13 +89,17 @@ def test_a_failed_task_is_one_line_and_dask_logs_reach_no_terminal(tmp_path, clu
     assert not [p for p in (tmp_path / "out").rglob("*") if p.name.startswith(TEMP_PREFIX)]
 
 
-def test_a_worker_runs_texsynth_already_imported_and_keeps_its_heap(cluster_client):
+def test_a_worker_runs_texsynth_already_imported_keeps_its_heap_and_its_cores(cluster_client):
     client, _, _ = cluster_client
     (state,) = client.run(lambda: ("texsynth.batch" in sys.modules,
                                    os.environ.get("MALLOC_TRIM_THRESHOLD_"),
-                                   os.environ.get("MALLOC_MMAP_THRESHOLD_"))).values()
-    assert state == (True, *(batch.WORKER_MALLOC[n] for n in ("MALLOC_TRIM_THRESHOLD_",
-                                                               "MALLOC_MMAP_THRESHOLD_")))
+                                   os.environ.get("MALLOC_MMAP_THRESHOLD_"),
+                                   *map(os.environ.get, batch.THREAD_VARIABLES))).values()
+    assert state[:3] == (True, *(batch.WORKER_MALLOC[n] for n in ("MALLOC_TRIM_THRESHOLD_",
+                                                                   "MALLOC_MMAP_THRESHOLD_")))
+    # one worker: BLAS gets every core, not Dask's 1 (unless this process sets its own)
+    cores = str(batch.WORKERS)
+    assert state[3:] == tuple(os.environ.get(n, cores) for n in batch.THREAD_VARIABLES)
     assert "MALLOC_MMAP_THRESHOLD_" not in os.environ  # the nanny's setting stays in the worker
 
 
@@ -115,7 +119,7 @@ def test_a_killed_worker_is_one_line(tmp_path, monkeypatch):
             return KilledWorker("texsynth-x", "tcp://127.0.0.1:1", allowed_failures=3)
 
     class Client:
-        def map(self, function, todo, key, pure):
+        def map(self, function, todo, job_keys, key, pure):
             assert function is batch.run_job
             return [Failed(k) for k in key]
 

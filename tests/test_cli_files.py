@@ -105,7 +105,7 @@ def test_a_write_that_fails_midway_leaves_no_output_at_all(tmp_path, capsys, mon
     old = (tmp_path / "out" / "o.png").read_bytes()
     calls = []
 
-    def full_disk(path, image, bits=8):
+    def full_disk(path, image, bits=8, atomic=True):
         calls.append(path)
         if len(calls) == 2:
             raise OSError(28, "No space left on device")

@@ -42,9 +42,10 @@ import logging
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from .blocks.parallel import WORKERS
 from .io.files import TEMP_PREFIX
 from .jobs import (
     DEFAULT_METHOD,
@@ -66,8 +67,8 @@ from .jobs import (
     version,
 )
 
-__all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "run", "run_job",
-           "is_done"]
+__all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "forecast", "run",
+           "run_job", "is_done"]
 
 @dataclass(frozen=True)
 class Defaults:
@@ -111,6 +112,8 @@ def plan(source, out_dir, defaults: Defaults = Defaults()) -> list[Job]:
     then ``preflight``): raises :class:`~texsynth.jobs.JobError` naming the manifest row and
     column of a bad value, a missing or unreadable photo or map, two tasks that would write one
     file, an output that is an input, or an output folder that would feed the next run.
+    Each job carries its predicted (seconds, peak bytes) as ``forecast`` (summed by
+    :func:`forecast`).
 
     Examples
     --------
@@ -133,8 +136,25 @@ def plan(source, out_dir, defaults: Defaults = Defaults()) -> list[Job]:
         rows = _manifest_rows(source)
     jobs = [job for where, row in rows for job in _jobs(where, row, out_dir, defaults)]
     check_plan(jobs, source_folder=source if source.is_dir() else None)
-    preflight(jobs)
-    return jobs
+    return [replace(job, forecast=f) for job, f in zip(jobs, preflight(jobs), strict=True)]
+
+
+def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]:
+    """The batch's predicted (seconds, peak bytes) on this machine, from each planned job's
+    ``forecast``: the tasks' seconds add up (each task's prediction already has every core,
+    so ``workers`` processes share them and do not divide the time), and the peak is the
+    largest task's once per worker process (:func:`default_workers`).
+
+    Examples
+    --------
+    >>> jobs = [Job(photo="a.png", outputs=("o.png",), forecast=(2.0, 100.0)),
+    ...         Job(photo="b.png", outputs=("p.png",), forecast=(3.0, 300.0))]
+    >>> forecast(jobs, workers=2)
+    (5.0, 600.0)
+    """
+    known = [job.forecast for job in jobs if job.forecast is not None]
+    return (sum(seconds for seconds, _ in known),
+            max((peak for _, peak in known), default=0.0) * (workers or default_workers()))
 
 
 def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
@@ -256,6 +276,8 @@ SCHEMES = ("tcp", "tls")
 #: glibc's settings in a local cluster's worker processes: work arrays come from a heap that
 #: keeps freed memory for the next ones (see :func:`_worker_environment`).
 WORKER_MALLOC = {"MALLOC_MMAP_THRESHOLD_": str(1 << 30), "MALLOC_TRIM_THRESHOLD_": str(1 << 34)}
+#: The thread counts of the BLAS and OpenMP libraries, which Dask sets to 1 in its workers.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
 
 
 def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
@@ -287,12 +309,14 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
     address = None if client is not None or scheduler is None else scheduler_address(scheduler)
     summary = Summary(total=len(jobs))
     report = progress or (lambda fraction, message: None)
-    todo, starter, logs, ended = [], None, None, False
+    todo, keys, starter, logs, ended = [], [], None, None, False
     try:
         for job in jobs:
-            if is_done(job, key(job)):
+            job_key = key(job)
+            if is_done(job, job_key):
                 continue
             todo.append(job)
+            keys.append(job_key)
             if logs is None:  # work to do: Dask's logs to the file, the cluster starting
                 logs = _route_logs(_log_path(todo))
                 if client is None:  # ... while the main thread hashes the other inputs
@@ -301,7 +325,8 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         report(summary.skipped / max(len(jobs), 1),
                f"{summary.skipped} of {len(jobs)} already done")
         if todo:
-            _submit(todo, summary, client if client is not None else starter.client(), report)
+            _submit(todo, keys, summary, client if client is not None else starter.client(),
+                    report)
         ended = True
     finally:
         if starter is not None:
@@ -428,11 +453,12 @@ def local_cluster(workers: int | None = None, log: str | os.PathLike | None = No
     import dask
     from distributed import LocalCluster
 
+    workers = workers or default_workers()
     environ = dict(os.environ)
     os.environ.update(WORKER_MALLOC)  # Dask takes this process's values over its settings
     try:
-        with dask.config.set(_worker_environment()):
-            return LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
+        with dask.config.set(_worker_environment(workers)):
+            return LocalCluster(n_workers=workers, threads_per_worker=1,
                                 processes=True, dashboard_address=None,
                                 silence_logs=logging.CRITICAL, preload=[__name__],
                                 env={LOG_VARIABLE: str(log or "")})
@@ -444,8 +470,14 @@ def local_cluster(workers: int | None = None, log: str | os.PathLike | None = No
                 del os.environ[name]
 
 
-def _worker_environment() -> dict:
-    """Dask settings for the worker processes' environment.
+def _worker_environment(workers: int) -> dict:
+    """Dask settings for the environment of ``workers`` worker processes.
+
+    Dask's nanny sets ``OMP_NUM_THREADS``, ``MKL_NUM_THREADS`` and ``OPENBLAS_NUM_THREADS``
+    to 1 (one thread per core, in as many worker threads); a batch's worker runs one task at a
+    time, which uses its share of the cores through BLAS (the patch distances' matrix products)
+    as through the core's thread pool, so the BLAS libraries get that share,
+    :data:`THREAD_VARIABLES` (a variable set in the starting process still wins).
 
     Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_=65536``, so glibc hands freed memory back at
     once and every fresh work array faults its pages in again: a task ran about 1.3x as long
@@ -455,15 +487,16 @@ def _worker_environment() -> dict:
     12 000 with the arrays kept on the heap (:data:`WORKER_MALLOC`), and the batch of 6 took
     72.6 and 64.6 s against 120.1 and 113.8 s without (load average 4.5-6.7 on 2 cores; the
     system time of faults grows with the load). A worker then keeps its
-    largest task's memory for the next one; the one-thread BLAS settings stay. (Dask takes a
-    variable of the starting process's environment over these: :func:`local_cluster` sets
-    them there while the workers start.)
+    largest task's memory for the next one. (Dask takes a variable of the starting process's
+    environment over these: :func:`local_cluster` sets glibc's there while the workers start.)
     """
     key = "distributed.nanny.pre-spawn-environ."
+    share = str(max(1, WORKERS // workers))
     # A worker's memory is mostly its kept heap, not Dask's data (a task returns a word): no
     # spilling, and no pause that would wait for memory a kept heap never hands back; Dask
     # still ends a worker past 95 % of its share of the memory.
     return {**{key + name: value for name, value in WORKER_MALLOC.items()},
+            **{key + name: share for name in THREAD_VARIABLES},
             "distributed.worker.memory.target": False, "distributed.worker.memory.spill": False,
             "distributed.worker.memory.pause": False}
 
@@ -596,10 +629,10 @@ class _Start:
         return self.seconds + time.monotonic() - start
 
 
-def _submit(todo, summary, client, report) -> None:
+def _submit(todo, keys, summary, client, report) -> None:
     from distributed import as_completed
 
-    futures = client.map(run_job, todo, key=[f"texsynth-{Path(j.outputs[0]).name}"
+    futures = client.map(run_job, todo, keys, key=[f"texsynth-{Path(j.outputs[0]).name}"
                                              for j in todo], pure=False)
     names = {f.key: Path(j.outputs[0]).name for f, j in zip(futures, todo, strict=True)}
     # A task whose result died with its worker is run again and comes back a second time,

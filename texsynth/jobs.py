@@ -27,7 +27,7 @@ import json
 import os
 import tempfile
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from importlib import metadata
 from pathlib import Path
@@ -119,7 +119,8 @@ class Job:
     if asked; ``in_size`` (width, height) resamples the photo and its maps before the work
     (the texel scale: :func:`in_shape`). ``origin`` names where the job came from in errors:
     ``""`` for the command line (errors name its options), ``"lib.csv:3"`` for a manifest row,
-    the photo for a folder.
+    the photo for a folder. ``forecast``: the predicted (seconds, peak bytes) that
+    :func:`preflight` found, once it has run (``texsynth.batch.plan`` keeps it here).
     """
 
     photo: str
@@ -137,6 +138,7 @@ class Job:
     preview: str | None = None
     in_size: tuple[int, int] | None = None  # the photo and maps resampled to (W, H) first
     origin: str = ""
+    forecast: tuple[float, float] | None = field(default=None, compare=False)
 
     def recipe(self) -> dict:
         """The parameters that decide the outputs' bits (the key's second half)."""
@@ -437,7 +439,7 @@ def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
             os.close(fd)
             temps.append(temp)
             try:
-                write_image(temp, image, bits=bits)
+                write_image(temp, image, bits=bits, atomic=False)  # this temp is renamed
             except (OSError, ValueError) as error:
                 reason = getattr(error, "strerror", None) or error
                 raise OutputError(f"{path}: cannot write ({reason})") from None
@@ -582,9 +584,11 @@ def _write_key(output: str, job_key: str) -> None:
     os.replace(temp, path)
 
 
-def run_job(job: Job) -> str:
+def run_job(job: Job, job_key: str | None = None) -> str:
     """A batch's task: ``"skipped"`` when :func:`is_done`, else :func:`execute` and the keys,
-    ``"done"``. Errors propagate as :class:`JobError` (Dask hands them back to the batch).
+    ``"done"``. ``job_key``: the job's :func:`key`, when the caller has it (the batch hashed
+    the inputs to find what is done: not twice). Errors propagate as :class:`JobError` (Dask
+    hands them back to the batch).
 
     Examples
     --------
@@ -597,7 +601,7 @@ def run_job(job: Job) -> str:
     >>> run_job(job), run_job(job)
     ('done', 'skipped')
     """
-    job_key = key(job)
+    job_key = key(job) if job_key is None else job_key
     if is_done(job, job_key):
         return "skipped"
     execute(job)

@@ -373,12 +373,20 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
     nnf[:, :, 1] = np.minimum(nnf[:, :, 1] // s, ws - 1) * s
     image = z[positions[:, :, 0], positions[:, :, 1]]
     penalty = None
+    # The progress by the ticks (blocks of rows, chunks of patches), the iterations' work:
+    # after the first iteration, the others share the rest by its count, the last without
+    # its vote's (equal shares had told 88 % done with a tenth of the time left, then nothing
+    # more).
+    count = {"ticks": 0, "first": 0, "rest": 0}
+
+    def tick():
+        """Between the steps of an iteration: Esc is heard, and the progress moves."""
+        count["ticks"] += 1
+        done = (count["ticks"] - count["first"]) / count["rest"] if count["rest"] else 0.0
+        progress((min(done, 1.0) * (iterations - 1) + (count["rest"] > 0)) / iterations, label)
+
     for it in range(iterations):
-        progress(it / iterations, label)
-
-        def tick(fraction=it / iterations):  # between the steps of an iteration: Esc is heard
-            progress(fraction, label)
-
+        tick()
         target = features.describe(image, grid.top, grid.left, tick)
         total = patchmatch(features, target, nnf, grid.rows, grid.cols, shape, rng,
                            MATCH_ITERATIONS, grid.index, penalty, tick)
@@ -389,8 +397,13 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
             tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         if it < iterations - 1:
+            before = count["ticks"]
             weights = (np.maximum(cost, 0) + eps) ** ((R - 2) / 2)
             image = _vote(z, nnf, weights.astype(np.float32), grid, tick)
+            if it == 0:  # the next iterations: as many ticks each, the last without a vote
+                count["first"] = count["ticks"]
+                count["rest"] = max(count["first"] * (iterations - 1) - (count["ticks"] - before),
+                                    1)
     if penalty is not None:  # the final pass sees the usage of the last matches
         total = cost + penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
     score = ((R - 2) / 2 * np.log(np.maximum(total, 0) + eps)).astype(np.float32)

@@ -292,9 +292,10 @@ def output_format(path) -> str:
     return SUFFIXES[suffix]
 
 
-def write_image(path, image, bits: int = 8) -> None:
+def write_image(path, image, bits: int = 8, *, atomic: bool = True) -> None:
     """Write ``image`` (H, W, C), C in 1, 3, 4, to ``path`` atomically in the format of its
-    suffix (:func:`output_format`).
+    suffix (:func:`output_format`); ``atomic=False`` writes ``path`` itself, for a caller that
+    writes to a temporary file of its own and renames it (``jobs.write_outputs``).
 
     - PNG and TIFF: values in [0, 1] (clipped), ``bits`` 8 or 16 per sample, alpha kept;
     - JPEG: 8 bits whatever ``bits`` says, quality 95, no chroma subsampling (a texture's
@@ -319,16 +320,23 @@ def write_image(path, image, bits: int = 8) -> None:
     if bits not in (8, 16):
         raise ValueError(f"bit depth must be 8 or 16, got {bits}")
     a = validation.image(image, what="image", min_side=1, finite=False)
+    if not atomic:
+        _write(kind, path, a, bits)
+        return
     fd, temp = tempfile.mkstemp(prefix=TEMP_PREFIX + path.stem + "-", suffix=path.suffix,
                                 dir=path.parent)
     os.close(fd)
     try:
-        _WRITERS[kind](temp, a, bits)
-        os.chmod(temp, 0o666 & ~_UMASK)  # mkstemp makes 0600; a plain open() would not
+        _write(kind, temp, a, bits)
         os.replace(temp, path)
     except BaseException:
         Path(temp).unlink(missing_ok=True)
         raise
+
+
+def _write(kind: str, path, a: np.ndarray, bits: int) -> None:
+    _WRITERS[kind](path, a, bits)
+    os.chmod(path, 0o666 & ~_UMASK)  # mkstemp makes 0600; a plain open() would not
 
 
 def _write_jpeg(path, a: np.ndarray, bits: int) -> None:

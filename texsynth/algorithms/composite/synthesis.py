@@ -95,7 +95,7 @@ __all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
 
 INTERACTION_DISTANCE = 2
 #: The label texture's share of the progress (:func:`synthesize`).
-LABEL_SHARE = 0.06
+LABEL_SHARE = 0.15
 #: Smallest inscribed square (pixels a side) handed to another fill method.
 MIN_SQUARE = 24
 #: Fewest cliques a candidate type needs in the exemplar to be modelled.
@@ -249,10 +249,16 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     f = max(1, min(f, min(labels.shape) // 32 or 1))
     report(0.0, "modelling the label texture")
     small = _downscale(labels, f, classes) if f > 1 else labels
-    model = co.fit_labels(small, classes, seed=rng, max_offset=max_offset, threshold=threshold,
-                          max_cliques=max_cliques, progress=report.span(0.0, 0.3))
     shape = (-(-height // f), -(-width // f))
-    marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps, report.span(0.3, 1.0))
+    # the fit's share by the clique model's terms (a fixed 0.3 had taken 0.69 of the time,
+    # 128 -> 256)
+    fitted = co.fit_share(small.shape + (1,), shape[1], shape[0],
+                          {"max_offset": max_offset, "max_cliques": max_cliques,
+                           "sweeps": sweeps})
+    model = co.fit_labels(small, classes, seed=rng, max_offset=max_offset, threshold=threshold,
+                          max_cliques=max_cliques, progress=report.span(0.0, fitted))
+    marks = co.synthesize_channel(model.channels[0], shape, rng, sweeps,
+                                  report.span(fitted, 1.0))
     out = model.channels[0].decode(marks, rng)
     if f == 1:
         return out
@@ -427,13 +433,21 @@ def _fill_cooccurrence(x, labels, out_labels, order, rng, report, interaction_di
 def _fill_shares(grey, windows, regions, sweeps) -> np.ndarray:
     """The progress at the start of each (component, class) step of :func:`_fill_cooccurrence`,
     at the end of its selection and at its end: (steps, 3). A step's work is the clique
-    model's (``co.cost``: a selection's sweeps over the class's window, the relaxation's over
-    its region) times the component's grey levels to the power 1.5, as the types selected grow
-    with them (measured); equal shares had told half done at a third of the time (128 -> 256:
-    the first component took eight times the last)."""
-    work = [(g ** 1.5 * co.SELECTION_COST * co.SELECTION_SWEEPS * a,
-             g ** 1.5 * co.SWEEP_COST * sweeps * b)
-            for g in grey for a, b in zip(windows, regions, strict=True)]
+    model's (``co.cost``): a selection's sweeps over the class's window per type, the
+    relaxation's sweeps per type and one more (``co.synthesis_cost``) over its region and half
+    the canvas (its sets are laid over the canvas: a class of a fifth of the output relaxed in
+    0.64 of the time of one of four fifths, with 24 types against 15, which the shares cannot
+    know beforehand; half fits both at 128 -> 256). A component's types grow with
+    its grey levels to the power 1.5 (measured), ``co.TYPICAL_TYPES`` at the first. Shares
+    without the types and the canvas had told 90 % done with a quarter of the time left
+    (128 -> 256); equal ones, half done at a third of the time."""
+    canvas = sum(regions)
+    work = []
+    for g in grey:
+        types = co.TYPICAL_TYPES * (g / max(grey)) ** 1.5
+        work += [(types * co.SELECTION_COST * co.SELECTION_SWEEPS * a,
+                  (1 + types) * co.SWEEP_COST * sweeps * (b + canvas / 2))
+                 for a, b in zip(windows, regions, strict=True)]
     ends = np.cumsum([0.0] + [w for pair in work for w in pair])
     ends /= max(ends[-1], 1e-30)
     return np.stack([ends[0:-1:2], ends[1::2], ends[2::2]], axis=1)
@@ -596,7 +610,8 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     report = Progress(progress)
     h, w = x.shape[:2]
     # the progress' shares: the segmentation by the cost model, the label texture measured
-    # (a fixed 0.18 had taken 0.03-0.13 of the time at 128 -> 256), the fill the rest
+    # (a fixed 0.18 had taken 0.03-0.13 of the time at 128 -> 256, the brick's 0.15), the
+    # fill the rest
     segmented = 3.5e-7 * h * w / cost(x.shape, width, height, checked)
     labelled = segmented + LABEL_SHARE
     if labels is None:

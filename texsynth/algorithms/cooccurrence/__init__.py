@@ -38,8 +38,8 @@ from .model import (
     TYPICAL_TYPES,
     Model,
     fit,
+    fit_share,
     sampled_pixels,
-    synthesis_cost,
     synthesize,
 )
 from .model import cost as model_cost
@@ -113,9 +113,7 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
         progress = progress.span(coarse_share, 1.0)
     # the fit's share of the progress by the cost model: a fixed 0.3 had told 30 % at a
     # fifth of the time, or at half of it, as the output's size went
-    fitted = 1.0 - synthesis_cost(exemplar.shape[2], min(max_cliques, TYPICAL_TYPES), width,
-                                  height, sweeps) \
-        / model_cost(exemplar.shape, width, height, {**params, "sweeps": sweeps})
+    fitted = fit_share(exemplar.shape, width, height, {**params, "sweeps": sweeps})
     model = fit(exemplar, seed=rng, progress=progress.span(0.0, fitted), **params)
     return synthesize(model, width, height, seed=rng, sweeps=sweeps,
                       progress=progress.span(fitted, 1.0), start=start)
