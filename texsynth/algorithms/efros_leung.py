@@ -145,13 +145,15 @@ def _memory(shape, width, height, params):
     masks and the kept pairs' indices, at most 9 bytes per pixel and window; the two gathers of
     a ``CHUNK`` of kept pairs' rows), the output and its bookkeeping. A batch holds at most
     ``BATCH_BYTES / 4`` distances, and at most a front's pixels: about half the boundary of the
-    filled region (``SPACING`` apart), under ``width + height + window`` (189 at most on a
-    96 x 80 output), with its neighbourhoods, weights and queries (three rows each); a fixed
-    ``2 BATCH_BYTES`` read 13x the resident peak of a 96 x 96 run."""
+    filled region (``SPACING`` apart), which grows until it meets itself across the shorter
+    side, taken as ``2.5 min(width, height) + window`` (189 at most on a 96 x 80 output: 2.4
+    times its shorter side; a strip grows through two fronts across it), with its
+    neighbourhoods, weights and queries (three rows each); a fixed ``2 BATCH_BYTES`` read 13x
+    the resident peak of a 96 x 96 run."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
-    batch = min(max(1, BATCH_BYTES // (4 * windows)), width + height + k)
+    batch = min(max(1, BATCH_BYTES // (4 * windows)), int(2.5 * min(width, height)) + k)
     row = 4 * k * k * (c + 1)  # a window's row of the matrix, bytes
     return windows * row + batch * (9 * windows + 3 * row) + 2 * PatchMatrix.CHUNK * row \
         + width * height * (4 * c + 8 + 6)
