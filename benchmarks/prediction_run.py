@@ -5,15 +5,16 @@ JSON: ``{"method": NAME or "make_tileable", "exemplar": [H, W], "size": [W, H], 
 ``exemplar`` with a ramp across it, so that it does not already tile). In this fresh process,
 after the imports, the exemplar and the calibration: the prediction (``budget.forecast`` /
 ``tileable.predict``: what the panel shows and the budgets check), then the run (seed 0); one
-JSON line with the measured wall seconds and the peak resident memory above the baseline
-(``ru_maxrss`` after the imports, the exemplar and the prediction, in bytes), which is what the
+JSON line with the measured wall seconds and the peak resident memory above the baseline (the
+high-water mark ``VmHWM``, reset through ``/proc/self/clear_refs`` before the run, over the
+resident size ``VmRSS`` then, in bytes: ``ru_maxrss`` cannot be reset, and a transient peak
+of the imports, freed before the run, had hidden a run's peak below it), which is what the
 memory budget must hold.
 """
 
 from __future__ import annotations
 
 import json
-import resource
 import sys
 import time
 from pathlib import Path
@@ -24,11 +25,9 @@ import texsynth
 from texsynth import budget, tileable
 from texsynth.io import read_photo
 
+from .context import _reset_high_water, _status_kib
+
 SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
-
-
-def _rss() -> int:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # KiB on Linux
 
 
 def exemplar(h: int, w: int) -> np.ndarray:
@@ -50,12 +49,14 @@ def main(case: dict) -> dict:
         seconds, peak = budget.forecast(case["method"], x.shape, width, height, params)
         run = lambda: texsynth.synthesize(x, width, height, method=case["method"],  # noqa: E731
                                           seed=0, **params)
-    base = _rss()
+    _reset_high_water()
+    base = _status_kib("VmRSS")
     start = time.perf_counter()
     run()
     wall = time.perf_counter() - start
     return {**case, "predicted_s": seconds, "measured_s": wall, "predicted_bytes": peak,
-            "resident_bytes": max(_rss() - base, 0), "factor": budget.machine_factor()}
+            "resident_bytes": max(_status_kib("VmHWM") - base, 0) * 1024,
+            "factor": budget.machine_factor()}
 
 
 if __name__ == "__main__":

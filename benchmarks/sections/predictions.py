@@ -5,7 +5,8 @@ small exemplar to a large output).
 Each row is one fresh process (``benchmarks/prediction_run.py``): the prediction the panel shows
 and the budgets check (``texsynth.budget.forecast``, ``texsynth.tileable.predict``: the cost
 model times this machine's speed and load, and ``Method.memory``), then the run; the peak is
-resident (``ru_maxrss`` above the process's after its imports), not only tracemalloc's.
+resident (the high-water mark above the resident size before the run, ``VmHWM`` reset), not
+only tracemalloc's.
 """
 
 from __future__ import annotations
@@ -83,8 +84,9 @@ def run(ctx) -> str:
         "`budget.forecast`, `tileable.predict`, at this machine's speed and load as read at the "
         "start) then the run, default parameters, seed 0, exemplar the pool_water sample's "
         "corner (tiled up when larger; make_tileable's with a ramp across so it does not "
-        "already tile). Peak: resident memory above the process's after its imports "
-        f"(`ru_maxrss`). Ratio: predicted / measured, goal {1 / GOAL:.2f}-{GOAL:.2f} "
+        "already tile). Peak: the resident high-water mark over the resident size before the "
+        "run (`VmHWM`, reset through /proc/self/clear_refs). Ratio: predicted / measured, "
+        f"goal {1 / GOAL:.2f}-{GOAL:.2f} "
         f"(**x**: outside); peaks under {FLOOR_MIB:.0f} MiB both ways are not rated (the "
         "allocator's noise).",
         "",
