@@ -12,7 +12,8 @@
     python3 addon_build.py test-compat  build, then the Blender tests in Blender 4.2.0, 4.5 LTS
                                         and 5.3 (bpy from PyPI, each in its own
                                         .venv-bpy-VERSION), and the core tests on 5.3's Python
-                                        3.13 and numpy 2.3 with the bundled cp313 wheels
+                                        3.13 and numpy 2.3 with the bundled cp313 wheels, and
+                                        the numpy check in 5.3 with the numpy pip resolves
     python3 addon_build.py pip-check    the checkout pip-installed into a throwaway venv, and the
                                         texsynth command run there
 
@@ -42,6 +43,8 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from versions import requirement, satisfies  # noqa: F401  (the tests read them from here)
 
 REPO = Path(__file__).resolve().parent
 VENV = REPO / ".venv"
@@ -189,31 +192,6 @@ def wheel_key(filename: str, blender_ext=None) -> tuple[str, str, str, tuple[str
 def serves(wheel_python: str, python: str) -> bool:
     """Whether a wheel whose :func:`wheel_key` Python is ``wheel_python`` installs on ``python``."""
     return wheel_python in (python, PURE)
-
-
-def requirement(metadata: str, package: str) -> str | None:
-    """The version comparisons (``'<2.5,>=1.23.5'``) with which a wheel's METADATA text requires
-    ``package`` (unconditionally: not for an extra), or None when it does not."""
-    found = [match[1] for line in metadata.splitlines()
-             if (match := re.fullmatch(rf"Requires-Dist: {re.escape(package)}\s*([^;a-z]*)",
-                                       line, flags=re.IGNORECASE))]
-    if len(found) > 1:
-        raise LookupError(f"{len(found)} unconditional requirements of {package}")
-    return found[0].strip() if found else None
-
-
-def satisfies(version: str, comparisons: str) -> bool:
-    """Whether ``version`` meets every ``<``, ``<=``, ``>``, ``>=`` of ``comparisons``; releases
-    compare as numbers (2.10 > 2.9, 2.5 == 2.5.0), a pre-release or local part is dropped."""
-    def release(text: str) -> tuple[int, ...]:
-        numbers = [int(n) for n in re.match(r"\d+(?:\.\d+)*", text)[0].split(".")]
-        return tuple(numbers + [0] * (4 - len(numbers)))
-
-    bounds = re.findall(r"([<>]=?)\s*(\d[\w.]*)", comparisons)
-    if not bounds:
-        raise ValueError(f"no comparisons in {comparisons!r}")
-    order = {"<": tuple.__lt__, "<=": tuple.__le__, ">": tuple.__gt__, ">=": tuple.__ge__}
-    return all(order[op](release(version), release(bound)) for op, bound in bounds)
 
 
 def _manifest_wheels() -> list[str]:
@@ -472,6 +450,7 @@ def compat(bases: dict[str, str | None]) -> None:
     if base is None:
         print(f"\n--- skipped: the core tests on Python {python_version}", flush=True)
         return
+    pip_numpy(base)
     python = _ensure_venv(REPO / f".venv-py{python_version}",
                           [f"numpy=={numpy_version}", "pytest", "hypothesis",
                            "pillow",  # the pip package's JPEG reader: test_plane_photos, test_cli
@@ -482,6 +461,21 @@ def compat(bases: dict[str, str | None]) -> None:
     tests = REPO / "tests"
     _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests, "--ignore",
          tests / "blender", "--ignore", tests / "test_distribution.py", cwd=REPO)
+
+
+#: The Blender test run in bpy NEWEST_BPY with the numpy pip resolves for it (unpinned): the
+#: bundle fits it, or the extension names the mismatch.
+PIP_NUMPY_TEST = ("tests/blender/test_dependencies.py::"
+                  "test_the_numpy_here_fits_the_bundled_scipy_or_the_mismatch_is_named")
+
+
+def pip_numpy(base: str) -> None:
+    """PIP_NUMPY_TEST in bpy NEWEST_BPY as pip installs it from PyPI, numpy as pip chooses."""
+    python = _ensure_venv(REPO / f".venv-bpy-{NEWEST_BPY}-pip",
+                          [f"bpy=={NEWEST_BPY}", "numpy", "pytest"], base=base)
+    print(f"\n--- Blender {NEWEST_BPY} with the numpy pip resolves ---", flush=True)
+    _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", REPO / PIP_NUMPY_TEST,
+         cwd=REPO)
 
 
 def _wheels_here(python: str) -> list[str]:

@@ -16,8 +16,11 @@ import re
 import sys
 import textwrap
 import traceback
+from pathlib import Path
 
 import bpy
+
+from .versions import requirement, satisfies
 
 #: Package -> {Python version: release}; the wheels are downloaded unmodified from PyPI.
 #: The Python 3.11 release must be the highest: Blender 4.2.0 ignores the Python tag and
@@ -25,9 +28,11 @@ import bpy
 #: the Python 3.13 wheels are the previous patch release. scipy 1.15 is the last release that
 #: supports Blender 4.2's numpy 1.24 (1.16 needs numpy >= 1.25.2); it supports numpy >= 1.23.5,
 #: < 2.5, which holds the numpy of every Blender from 4.2 on (4.5 and 5.1: 1.26; 5.2 and 5.3:
-#: 2.3.4). The bpy module 5.2+ accepts numpy < 3: with numpy 2.5 or later SciPy warns at import.
-#: A cp313 scipy for that (1.17: numpy >= 1.26.4, < 2.7) must wait until blender_version_min is
-#: past 4.2.0, whose Python-blind pick would install it into Python 3.11.
+#: 2.3.4). The bpy module 5.2+ accepts numpy < 3, and pip gives bpy 5.3.0 numpy 2.5.5: there
+#: :func:`problem` names the mismatch (:func:`numpy_problem`) instead of SciPy's import warning.
+#: A cp313 scipy that fits it (1.16.3: numpy >= 1.25.2, < 2.6; 1.17: >= 1.26.4, < 2.7, from
+#: their METADATA) must wait until blender_version_min is past 4.2.0, whose Python-blind pick
+#: would install it into Python 3.11.
 #: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
 #: serves every Python and platform.
 BUNDLED = {
@@ -60,7 +65,30 @@ def problem() -> str | None:
         if not lowest <= _version(version) < above:
             found.append(f"{package} {version} from {_where(module)} is installed, but TexSynth "
                          f"needs {package} >= {_dotted(lowest)} and < {_dotted(above)}.")
+            continue
+        found.extend(filter(None, [numpy_problem(module)]))
     return _advice(found) if found else None
+
+
+def numpy_problem(module) -> str | None:
+    """Why the installed numpy is not one that ``module`` (an imported bundled package)
+    declares it supports in its wheel's METADATA, or None when it is (or it declares none)."""
+    import numpy
+
+    file = getattr(module, "__file__", None)
+    if file is None:
+        return None
+    site = Path(file).parent.parent if Path(file).name == "__init__.py" else Path(file).parent
+    infos = sorted(site.glob(f"{module.__name__.lower()}-*.dist-info"))
+    metadata = infos[-1] / "METADATA" if infos else None
+    spec = requirement(metadata.read_text(), "numpy") if metadata and metadata.is_file() else None
+    if spec is None or satisfies(numpy.__version__, spec):
+        return None
+    return (f"{module.__name__} {module.__version__}, bundled for Python "
+            f"{sys.version_info.major}.{sys.version_info.minor}, supports numpy {spec}, but "
+            f"numpy {numpy.__version__} is installed (pip gives the bpy module from PyPI its "
+            f"newest numpy; Blender's own downloads ship one that fits): install a numpy "
+            f"{spec} (pip install \"numpy{spec}\").")
 
 
 def import_problem(error: ImportError) -> str:

@@ -103,3 +103,12 @@ def test_efros_leung_counts_the_batches_of_a_strip():
     rectangle = method.cost((32, 32, 3), 512, 256, params)
     strip = method.cost((32, 32, 3), 16384, 8, params)
     assert strip > 1.5 * rectangle
+
+
+def test_efros_leung_memory_counts_a_batch_front_not_a_fixed_matrix():
+    """A batch holds a front's pixels: 96 x 96 from 48 x 48 peaks at about 10 MiB resident; a
+    fixed 128 MiB for the distances predicted 131 MiB (and refused it under a tight budget)."""
+    seconds, peak = budget.forecast("efros_leung", (48, 48, 3), 96, 96)
+    assert peak < 16 * 2**20
+    _, strip = budget.forecast("efros_leung", (32, 32, 3), 16384, 16)
+    assert strip < 48 * 2**20

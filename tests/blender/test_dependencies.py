@@ -45,6 +45,36 @@ def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
         "bundle a scipy for this Python that supports it (dependencies.BUNDLED)")
 
 
+def test_the_numpy_here_fits_the_bundled_scipy_or_the_mismatch_is_named(addon):
+    # What addon_build.py test-compat also runs in bpy 5.3.0 with the numpy pip resolves for
+    # it (2.5.5, beyond the cp313 scipy 1.15.2's < 2.5): the extension says so, by name.
+    import numpy
+    import scipy
+
+    (info,) = Path(scipy.__file__).parents[1].glob("scipy-*.dist-info")
+    spec = addon_build.requirement((info / "METADATA").read_text(), "numpy")
+    problem = addon.dependencies.problem()
+    if addon_build.satisfies(numpy.__version__, spec):
+        assert problem is None
+    else:
+        assert (f"scipy {scipy.__version__}, bundled for Python {sys.version_info.major}."
+                f"{sys.version_info.minor}, supports numpy {spec}, but numpy "
+                f"{numpy.__version__} is installed") in problem
+        assert f'pip install "numpy{spec}"' in problem
+
+
+def test_a_numpy_the_bundled_scipy_does_not_support_is_named_in_the_panel(
+        addon, reregister, monkeypatch):
+    import numpy
+
+    monkeypatch.setattr(numpy, "__version__", "9.0.0")
+    addon.register()
+    text = _panel_text()
+    assert "supports numpy" in text and "but numpy 9.0.0 is installed" in text
+    with pytest.raises(RuntimeError, match="numpy 9.0.0 is installed"):
+        bpy.ops.texsynth.synthesize()
+
+
 class _Layout:
     """Records the labels a panel draws."""
 

@@ -185,23 +185,38 @@ def efros_leung(exemplar, width, height, rng, progress, window=11, epsilon=0.1,
 
 
 def _memory(shape, width, height, params):
-    """The window matrix, one batch's distances, the output and its bookkeeping."""
+    """The window matrix, one batch's work in ``PatchMatrix.sample`` (the float32 bounds, two
+    masks and the kept pairs' indices, at most 9 bytes per pixel and window; the two gathers of
+    a ``CHUNK`` of kept pairs' rows), the output and its bookkeeping. A batch holds at most
+    ``BATCH_BYTES / 4`` distances, and at most a front's pixels: about half the boundary of the
+    filled region (``SPACING`` apart), which grows until it meets itself across the shorter
+    side, taken as ``2.5 min(width, height) + window`` (189 at most on a 96 x 80 output: 2.4
+    times its shorter side; a strip grows through two fronts across it), with its
+    neighbourhoods, weights and queries (three rows each); a fixed ``2 BATCH_BYTES`` read 13x
+    the resident peak of a 96 x 96 run."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
-    return 4 * windows * k * k * (c + 1) + BATCH_BYTES * 2 + width * height * (4 * c + 8 + 6)
+    batch = min(max(1, BATCH_BYTES // (4 * windows)), int(2.5 * min(width, height)) + k)
+    row = 4 * k * k * (c + 1)  # a window's row of the matrix, bytes
+    return windows * row + batch * (9 * windows + 3 * row) + 2 * PatchMatrix.CHUNK * row \
+        + width * height * (4 * c + 8 + 6)
 
 
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Every output pixel's window against
     every exemplar window: the 7 x 7 lower bound's matrix product over (C + 1) planes (values and
-    mask), plus per-pixel bookkeeping, plus a fixed cost per batch (about 0.3 ms of numpy calls:
-    most of a run on a strip 8 or 16 pixels high, 8 to 16 pixels a batch)."""
+    mask), plus per-pixel bookkeeping, plus a fixed cost per batch (numpy calls and a small
+    matrix product: most of a run on a strip 8 or 16 pixels high, 8 to 16 pixels a batch).
+    The pixel and batch terms refitted (issue 45: 2e-5 and 3e-4 had predicted 16384 x 16 from
+    32 x 32 at 0.31-0.38 of its time, 192 x 192 at 0.36) on three shapes measured in one
+    sitting (``benchmarks/sections/predictions.py``): 96 x 96 from 48 x 48, 192 x 192 from
+    32 x 32, 16384 x 16 from 32 x 32, at 0.78-1.2 of each."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
     units = width * height * windows * min(k, 7) ** 2 * (c + 1)
-    return 0.05 + 3.4e-10 * units + 2.0e-5 * width * height + 3.0e-4 * _batches(
+    return 0.05 + 3.4e-10 * units + 8.0e-5 * width * height + 1.0e-3 * _batches(
         windows, width, height)
 
 

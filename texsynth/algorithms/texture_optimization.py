@@ -142,6 +142,7 @@ SOURCES = 1 << 21
 #: output pixel at two sizes, a search table's lattice point, and a pixel of a level whose
 #: copies are aligned): see ``_memory``, ``_cost``.
 MEM_OUT, MEM_OUT_C = 100, 16
+MEM_SEARCH, SEARCH_PIXELS = 350, 1 << 18
 COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
@@ -498,13 +499,19 @@ def _memory(shape, width, height, params):
     three copies); per output pixel: positions, image, vote sums,
     the final pass's choices and the grid's share (a patch every 4 pixels at the smallest size:
     descriptors, matches, costs, candidates), measured as VmHWM at 1024 -> 2048 and
-    12 MP -> 2048; tests/test_contract.py holds the estimate above the peak."""
+    12 MP -> 2048; tests/test_contract.py holds the estimate above the peak. Plus the
+    searches' working set, which grows with the output up to a cap: ``MEM_SEARCH`` bytes for
+    each of the first ``SEARCH_PIXELS`` output pixels (issue 45: from a 32^2 exemplar, traced
+    19, 72 and 91 MiB beyond the rest at 256^2, 512^2 and 1024^2, resident 1.2-1.5x that;
+    without it the model read 0.24-0.43 of the resident peak there)."""
     shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
     rows, cols = _tables(shape, params)[0]
     table = 4 * DIMS * rows * cols + 4 * CELLS ** 2 * c * min(BLOCK_ROWS, rows) * cols \
         + 16 * CELLS ** 2 * c * min(FIT_SAMPLES, rows * cols)
-    return table + 12 * c * shape[0] * shape[1] + (MEM_OUT + MEM_OUT_C * c) * width * height
+    search = MEM_SEARCH * min(width * height, SEARCH_PIXELS)
+    return table + search + 12 * c * shape[0] * shape[1] \
+        + (MEM_OUT + MEM_OUT_C * c) * width * height
 
 
 def _cost(shape, width, height, params):
