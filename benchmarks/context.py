@@ -84,14 +84,14 @@ def _pin_mmap_threshold() -> None:
         libc.mallopt(-3, 1 << 20)  # M_MMAP_THRESHOLD = 1 MiB, which also stops its adaptation
 
 
-def _status_kib(field: str) -> int:
+def status_kib(field: str) -> int:
     try:
         return int(re.search(rf"{field}:\s+(\d+)", _HWM.read_text()).group(1))
     except (OSError, AttributeError):
         return 0
 
 
-def _reset_high_water() -> bool:
+def reset_high_water() -> bool:
     try:
         Path("/proc/self/clear_refs").write_text("5")
         return True
@@ -204,14 +204,14 @@ class Context:
             for _ in range(repeats):
                 result = None
                 _child_peak_kib = 0
-                hwm = _reset_high_water()
-                base = _status_kib("VmRSS")
+                hwm = reset_high_water()
+                base = status_kib("VmRSS")
                 tracemalloc.reset_peak()
                 start = time.perf_counter()
                 result = fn()
                 times.append(time.perf_counter() - start)
                 peaks.append(tracemalloc.get_traced_memory()[1])
-                grown = _status_kib("VmHWM") - base if hwm else float("nan")
+                grown = status_kib("VmHWM") - base if hwm else float("nan")
                 rss.append(max(grown, _child_peak_kib) / 1024)
         finally:
             tracemalloc.stop()

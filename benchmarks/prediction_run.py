@@ -25,7 +25,7 @@ import texsynth
 from texsynth import budget, tileable
 from texsynth.io import read_photo
 
-from .context import _reset_high_water, _status_kib
+from .context import reset_high_water, status_kib
 
 SAMPLE = Path(__file__).resolve().parents[1] / "samples" / "pool_water.png"
 
@@ -49,13 +49,13 @@ def main(case: dict) -> dict:
         seconds, peak = budget.forecast(case["method"], x.shape, width, height, params)
         run = lambda: texsynth.synthesize(x, width, height, method=case["method"],  # noqa: E731
                                           seed=0, **params)
-    _reset_high_water()
-    base = _status_kib("VmRSS")
+    reset_high_water()
+    base = status_kib("VmRSS")
     start = time.perf_counter()
     run()
     wall = time.perf_counter() - start
     return {**case, "predicted_s": seconds, "measured_s": wall, "predicted_bytes": peak,
-            "resident_bytes": max(_status_kib("VmHWM") - base, 0) * 1024,
+            "resident_bytes": max(status_kib("VmHWM") - base, 0) * 1024,
             "factor": budget.machine_factor()}
 
 
