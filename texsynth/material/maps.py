@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft as sfft
-from scipy.ndimage import gaussian_filter, uniform_filter
+from scipy.ndimage import gaussian_filter
 
 from .. import validation
 from ..blocks.period import texel_size
@@ -215,10 +215,10 @@ def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA,
     span = float(np.ptp(z))
     height = ((z - z.min()) / span if span > 0 else np.full_like(z, 0.5)).astype(np.float32)
     ao = np.clip(_ao(z_px, texel, wrap), 0.0, 1.0).astype(np.float32)
-    box = max(3, int(round(TEXELS_ROUGH * texel)))
+    sigma = max(1.0, TEXELS_ROUGH * texel / 2)  # Gaussian windows: a box's squares showed
     mode = "wrap" if wrap else "nearest"
-    detail = z_px - uniform_filter(z_px, box, mode=mode)
-    local = np.sqrt(uniform_filter(detail ** 2, box, mode=mode))
+    detail = z_px - gaussian_filter(z_px, sigma, mode=mode)
+    local = np.sqrt(gaussian_filter(detail ** 2, sigma, mode=mode))
     top = float(np.percentile(local, 99))
     rough = ROUGH_MIN + (1 - ROUGH_MIN) * np.clip(local / top if top > 0 else 0 * local, 0, 1)
     return Maps(normal=normal, height=height, roughness=rough.astype(np.float32), ao=ao)
