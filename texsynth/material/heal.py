@@ -51,10 +51,10 @@ from ..progress import Progress
 __all__ = ["heal", "check_mask"]
 
 #: Patch side bounds (pixels).
-MIN_PATCH, MAX_PATCH = 8, 48
+MIN_PATCH, MAX_PATCH = 16, 48
 #: The search window around the mask: this many times its extent beyond it, at least
 #: ``MIN_CONTEXT`` pixels.
-CONTEXT, MIN_CONTEXT = 2.0, 96
+CONTEXT, MIN_CONTEXT = 1.0, 96
 #: Candidates drawn among, and their SSD's tolerance over the best (Efros & Freeman 2.1).
 CANDIDATES, TOLERANCE = 4, 0.1
 
@@ -114,7 +114,7 @@ def heal(photo, mask, *, seed: int = 0, patch: int | None = None,
     photo : array (H, W) or (H, W, C).
     mask : array (H, W), bool or numbers (above one half: heal).
     seed : the patch choices' seed; same inputs and seed, identical output.
-    patch : patch side in pixels (default: the texel size, within [8, 48]).
+    patch : patch side in pixels (default: the texel size, within [16, 48]).
     progress : ``progress(fraction, message)``; returning False cancels (``Cancelled``).
 
     References

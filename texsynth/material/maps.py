@@ -10,8 +10,10 @@
   plain luminance-gradient normal map (Crazybump, Materialize, GIMP's normal map filter).
 - **normal**: the height's gradient by spectral differentiation (periodic: exact on the torus),
   n = (-s dh/dx, -s dh/dy_up, 1) / |.|, +Y up (OpenGL, Blender's convention), the strength s
-  set so that the root mean square slope is ``SLOPE`` (a height from colour has no unit: its
-  relief is made as steep as the training renders' and game sets' typical relief);
+  set so that the root mean square slope is ``STRENGTH`` times the root mean square gradient
+  of the luminance (blurred by 1 px) per pixel, within [``MIN_SLOPE``, ``MAX_SLOPE``]: a
+  height from colour has no unit, and a surface of more contrast reads as more relief, as in
+  the artists' tools, whose strength multiplies the luminance's gradient;
 - **ao**: horizon-based ambient occlusion of the height field (Bavoil, Sainz & Dimitrov 2008):
   in ``DIRECTIONS`` directions the highest horizon elevation within a texel size, AO = 1 - the
   mean sine of those elevations (cavities dark, ridges and flats 1);
@@ -25,9 +27,9 @@ With ``wrap=True`` every filter is periodic (FFT, rolls), so a tiling colour giv
 ring, and shifts clamp at the edges.
 
 Deviations, one line each: the height is a heuristic shape-from-shading (no light direction is
-assumed: a de-lit photo has none), its scale the normal's strength; ``ALPHA``, ``SLOPE`` and
-``LOW_TEXELS`` were tuned on Cycles renders of displaced surfaces and held out on others
-(``benchmarks/sections/material.py``).
+assumed: a de-lit photo has none), its scale the normal's strength; ``ALPHA`` and
+``STRENGTH`` were tuned on the game sets and three Cycles renders of displaced surfaces, three
+more renders held out (``benchmarks/sections/material.py``).
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft as sfft
-from scipy.ndimage import uniform_filter
+from scipy.ndimage import gaussian_filter
 
 from .. import validation
 from ..blocks.period import texel_size
@@ -45,9 +47,11 @@ from ..blocks.periodic import periodic_component
 __all__ = ["Maps", "derive_maps", "height_from_colour", "normal_from_height"]
 
 #: The luminance spectrum's weight exponent for the height (|f|^-ALPHA).
-ALPHA = 0.8
-#: Root mean square slope of the normal map (tan of the relief's typical tilt).
-SLOPE = 0.3
+ALPHA = 0.3
+#: The normal map's root mean square slope per unit of the luminance's (per pixel).
+STRENGTH = 12.0
+#: Bounds of the normal map's root mean square slope (tan of the relief's typical tilt).
+MIN_SLOPE, MAX_SLOPE = 0.03, 0.8
 #: Wavelengths longer than this many texel sizes are left out of the height.
 LOW_TEXELS = 8.0
 #: Finest wavelength kept (pixels): the Nyquist band's noise damped.
@@ -111,7 +115,7 @@ def height_from_colour(colour, *, alpha: float = ALPHA, low: float | None = None
     return sfft.irfft2(sfft.rfft2(y) * weight, s=(h, w))
 
 
-def normal_from_height(height: np.ndarray, *, slope: float | None = SLOPE,
+def normal_from_height(height: np.ndarray, *, slope: float | None = 0.3,
                        strength: float | None = None) -> np.ndarray:
     """Unit normals (H, W, 3) float32, OpenGL (+Y up), of the periodic ``height`` (H, W) by
     spectral differentiation; the strength s scales the height (default: the root mean square
@@ -134,6 +138,13 @@ def normal_from_height(height: np.ndarray, *, slope: float | None = SLOPE,
         strength = slope / rms if rms > 0 else 0.0
     n = np.stack([-strength * dx, strength * dy, np.ones_like(dx)], axis=2)  # y up: -d/drow
     return (n / np.linalg.norm(n, axis=2, keepdims=True)).astype(np.float32)
+
+
+def _rms_gradient(a: np.ndarray, wrap: bool) -> float:
+    """Root mean square of the central-difference gradient's magnitude (periodic when wrap)."""
+    gy = (_shift(a, 1, 0, wrap) - _shift(a, -1, 0, wrap)) / 2
+    gx = (_shift(a, 0, 1, wrap) - _shift(a, 0, -1, wrap)) / 2
+    return float(np.sqrt(np.mean(gx ** 2 + gy ** 2)))
 
 
 def _shift(a: np.ndarray, di: int, dj: int, wrap: bool) -> np.ndarray:
@@ -161,8 +172,8 @@ def _ao(z: np.ndarray, reach: float, wrap: bool) -> np.ndarray:
     return 1.0 - occlusion / DIRECTIONS
 
 
-def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA, slope: float = SLOPE,
-                low: float | None = None) -> Maps:
+def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA,
+                strength: float = STRENGTH, low: float | None = None) -> Maps:
     """Height, normal (OpenGL), roughness and AO of a de-lit ``colour`` (H, W) or (H, W, C).
 
     Parameters
@@ -171,7 +182,7 @@ def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA, slope: float
     wrap : every filter periodic (a tiling colour gives tiling maps); False for a photo that
         does not tile.
     alpha : the luminance spectrum's exponent for the height (0: height = luminance).
-    slope : the normal map's root mean square slope.
+    strength : the normal map's root mean square slope per unit of the luminance's gradient.
     low : longest wavelength of the height (pixels; default ``LOW_TEXELS`` texel sizes).
 
     References
@@ -190,22 +201,24 @@ def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA, slope: float
     ((64, 64, 3), dtype('float32'), True)
     """
     a = validation.image(colour, what="colour", channels=None)
-    slope = validation.number(slope, "slope", 0.0, 10.0)
+    strength = validation.number(strength, "strength", 0.0, 1000.0)
     alpha = validation.number(alpha, "alpha", 0.0, 2.0)
     texel = texel_size(a[:, :, :3] if a.shape[2] >= 3 else a[:, :, :1])
     z = height_from_colour(a, alpha=alpha, low=LOW_TEXELS * texel if low is None else low,
                            wrap=wrap)
+    y = gaussian_filter(_luminance(a), 1.0, mode="wrap" if wrap else "nearest")
+    slope = float(np.clip(strength * _rms_gradient(y, wrap), MIN_SLOPE, MAX_SLOPE))
     normal = normal_from_height(z, slope=slope)
     # The height in pixels at the normal's strength: its slopes are the normal's.
-    rms = float(np.sqrt(np.mean(np.square(np.gradient(z)))) * np.sqrt(2))
+    rms = _rms_gradient(z, wrap)
     z_px = z * (slope / rms if rms > 0 else 0.0)
     span = float(np.ptp(z))
     height = ((z - z.min()) / span if span > 0 else np.full_like(z, 0.5)).astype(np.float32)
     ao = np.clip(_ao(z_px, texel, wrap), 0.0, 1.0).astype(np.float32)
-    box = max(3, int(round(TEXELS_ROUGH * texel)))
+    sigma = max(1.0, TEXELS_ROUGH * texel / 2)  # Gaussian windows: a box's squares showed
     mode = "wrap" if wrap else "nearest"
-    detail = z_px - uniform_filter(z_px, box, mode=mode)
-    local = np.sqrt(uniform_filter(detail ** 2, box, mode=mode))
+    detail = z_px - gaussian_filter(z_px, sigma, mode=mode)
+    local = np.sqrt(gaussian_filter(detail ** 2, sigma, mode=mode))
     top = float(np.percentile(local, 99))
     rough = ROUGH_MIN + (1 - ROUGH_MIN) * np.clip(local / top if top > 0 else 0 * local, 0, 1)
     return Maps(normal=normal, height=height, roughness=rough.astype(np.float32), ao=ao)
