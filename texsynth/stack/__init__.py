@@ -137,6 +137,9 @@ def synthesize_stack(
     mrf = multiscale_mrf.METHOD
     mrf_params = mrf.resolve({k: v for k, v in params.items()
                               if k in {p.name for p in mrf.params}})
+    # the other views follow the support's joints through its positions: no feature channel
+    guided_params = {k: v for k, v in mrf_params.items()
+                     if k not in ("joint_width", "feature_weight")}
     if mode == "guided":
         _check_memory(views, support, width, height, mrf_params)
         # each guided view costs about one multiscale_mrf run (the support's is checked by
@@ -161,7 +164,7 @@ def synthesize_stack(
         # huge or tiny values are compared at an exact power-of-two scale, as in synthesize
         a_in, b_in = _ordinary(views[support]), _ordinary(views[v])
         a_out = _ordinary(image_a, validation.magnitude_scale(views[support]))
-        flat = guided_mrf(a_in, b_in, a_out, positions, rng, span, c, **mrf_params)
+        flat = guided_mrf(a_in, b_in, a_out, positions, rng, span, c, **guided_params)
         h, w = views[v].shape[:2]
         out[v] = views[v].reshape(h * w, -1)[flat]
     report(1.0, "stack: done")
