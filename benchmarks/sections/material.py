@@ -16,6 +16,7 @@ from scipy.ndimage import binary_dilation, gaussian_filter, zoom
 
 from benchmarks import material_renders
 from benchmarks.context import SHARED_TEXTURES, fmt
+from benchmarks.sections.tileable import centre_crop
 from texsynth import metrics
 from texsynth.blocks.color import linear_to_srgb, srgb_to_linear
 from texsynth.blocks.periodic import tile_preview
@@ -43,15 +44,6 @@ LIGHT_SCALE = 1 / 16
 SHADING = 2.0
 #: The baseline's low-pass widths (share of the side).
 BASELINE_SIGMAS = (1 / 64, 1 / 16, 1 / 4)
-
-
-def _crop(rel: str, side: int) -> np.ndarray:
-    image = read_photo(SHARED_TEXTURES / rel)[:, :, :3].astype(np.float32)
-    if image.shape[2] == 1:
-        image = np.repeat(image, 3, axis=2)
-    h, w = image.shape[:2]
-    top, left = max(0, (h - side) // 2), max(0, (w - side) // 2)
-    return np.ascontiguousarray(image[top:top + side, left:left + side])
 
 
 # --- delight ----------------------------------------------------------------------------------
@@ -109,7 +101,7 @@ def delight_part(ctx) -> str:
                                          BASELINE_SIGMAS]
     rows, scores, shown, seconds = [], {n: [] for n in names}, [], []
     for rel in textures:
-        albedo = _crop(rel, side)
+        albedo = centre_crop(rel, side)
         for label, key, vignetted in lights:
             photo = _lit(albedo, fields[key], vignetted)
             start = time.perf_counter()
@@ -268,7 +260,7 @@ def heal_part(ctx) -> str:
     photos = HEAL_PHOTOS[:2] if ctx.quick else HEAL_PHOTOS
     rows, ours, smooth, shown, seconds = [], [], [], [], []
     for rel in photos:
-        truth = _crop(rel, side)
+        truth = centre_crop(rel, side)
         for name, colour, footprint in _blemishes(side, rng):
             blemished = np.where(footprint[:, :, None], colour, truth).astype(np.float32)
             mask = binary_dilation(footprint, iterations=3)  # painted a little wider

@@ -41,7 +41,8 @@ TIMED_1024 = ("large/torcs-data/gravel_pebbles.png", "large/ufoai-textures/brick
 OFF_PALETTE = 0.12  # RGB distance from every exemplar colour that counts as a new colour
 
 
-def _photo(rel, side):
+def centre_crop(rel, side):
+    """The shared photo ``rel`` as RGB float32, its centre ``side`` x ``side`` (or all of it)."""
     image = read_photo(SHARED_TEXTURES / rel)[:, :, :3].astype(np.float32)
     if image.shape[2] == 1:
         image = np.repeat(image, 3, axis=2)
@@ -133,7 +134,7 @@ def unchanged(photo, out):
 
 def _make_tileable(ctx, side):
     names = [p for p in PHOTOS if (SHARED_TEXTURES / p).exists()]
-    photos = [_photo(p, side) for p in names]
+    photos = [centre_crop(p, side) for p in names]
     gimp_outs, gimp_seconds = gimp_make_seamless(photos)
     has_rs = next(p for p in peers.peers() if p.name == "resynthesizer").missing is None
     tools = (("ours", "ours"), ("gimp", "GIMP"), ("rs", "Resynth."))
@@ -182,7 +183,7 @@ def _timing_1024():
     for name in TIMED_1024:
         if not (SHARED_TEXTURES / name).exists():
             continue
-        photo = _photo(name, 1024)
+        photo = centre_crop(name, 1024)
         t, out = timed(lambda p=photo: texsynth.make_tileable(p, seed=SEED))
         seconds.append(t)
         lines.append(f"| {Path(name).stem} | {default_band(photo.shape)} | {t:.2f} | "
