@@ -155,8 +155,12 @@ def test_no_private_names_across_modules():
         parts = path.relative_to(REPO).with_suffix("").parts
         return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
-    paths = [p for p in REPO.rglob("*.py")
-             if not {"tests", ".venv", ".git", "build"} & set(p.relative_to(REPO).parts)]
+    def ours(path):  # not the tests, nor venvs, caches and build output (hidden or named so)
+        parts = path.relative_to(REPO).parts
+        return not any(part.startswith(".") or part in {"tests", "build", "dist", "out"}
+                       for part in parts)
+
+    paths = [p for p in REPO.rglob("*.py") if ours(p)]
     modules = {name(p): p for p in paths}
     uses = [u for n, p in sorted(modules.items()) for u in _private_uses(n, p, modules)]
     assert not uses, "\n".join(uses)
