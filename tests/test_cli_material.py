@@ -61,6 +61,14 @@ def test_a_mask_in_the_output_folder_is_never_written_over(photo, tmp_path, caps
     assert mask.read_bytes() == before and not (tmp_path / "floor_Color.png").exists()
 
 
+def test_a_file_already_in_the_output_folder_is_kept(photo, tmp_path, capsys):
+    kept = tmp_path / "floor_Roughness.png"
+    kept.write_bytes(b"the user's own")
+    code, out, err = _run(capsys, "-q", "material", photo, "-o", tmp_path, *FAST)
+    assert code == 4 and err.count("\n") == 1 and "exists; nothing was written" in err
+    assert kept.read_bytes() == b"the user's own" and not (tmp_path / "floor_Color.png").exists()
+
+
 def test_a_manifest_plans_material_tasks_and_refuses_maps_on_them(photo, tmp_path):
     (tmp_path / "list.csv").write_text("photo,operation,size,corners\n"
                                        "floor.png,material,32,\"1,1,70,1,70,60,1,60\"\n")

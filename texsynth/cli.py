@@ -39,6 +39,7 @@ from .jobs import (
     EXIT_CODES,
     Job,
     JobError,
+    OutputError,
     RefusedError,
     UsageError,
     check_folder,
@@ -368,6 +369,11 @@ def run_material(args, bar: Bar) -> None:
                        method=args.method, seed=args.seed,
                        bits=args.bits or default_bits(args.photo), fmt=fmt)
     check_plan([job])
+    # the user named a folder, not these files: one already there is theirs (write_material's rule)
+    there = [output for output in job.outputs if Path(output).exists()]
+    if there:
+        raise OutputError(f"{there[0]} exists; nothing was written (choose another folder, or "
+                          "remove the files)")
     ((seconds, peak),) = preflight([job])
     if not args.quiet:
         print(forecast_line(seconds, peak), file=sys.stderr)
