@@ -60,7 +60,7 @@ def digests() -> dict[str, str]:
     model = co.fit(hb, seed=5)
     out["cooccurrence/model"] = _digest(np.frombuffer(model.to_bytes(), np.uint8))
     out["cooccurrence/from_model"] = _digest(model.synthesize(33, 29, seed=6))
-    result = texsynth.composite.synthesize(textures["pool_water"], 40, 40, seed=8)
+    result = texsynth.composite.compose(textures["pool_water"], 40, 40, seed=8)
     out["composite/api"] = _digest(result.image, result.labels)
     out["segment"] = _digest(texsynth.segmentation.segment(hb))
     plane = read_photo(REPO / "samples" / "pool_water.png")

@@ -3,7 +3,7 @@
 * ``texsynth.segment``: the unsupervised segmentation of the active Image Texture node's image
   as a new image, one flat palette colour per class, to inspect or to repaint and use as the
   label image.
-* ``texsynth.synthesize_composite``: ``texsynth.composite.synthesize`` on the active Image
+* ``texsynth.synthesize_composite``: ``texsynth.composite.compose`` on the active Image
   Texture node's image into a new image and node (as ``texsynth.synthesize`` does), plus a new
   image of the output label map. The label source is automatic, or an image of the exemplar's
   size with one flat colour per class (``label_image``); the output layout is synthesized, or a
@@ -128,7 +128,7 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
         params = properties.param_values(self, method)
         width, height = texsynth.validation.size(width, height)  # refused before the forecast
         predicted, _ = texsynth.budget.forecast(METHOD, exemplar.shape, width, height, params)
-        job = Job(composite.synthesize, exemplar, width, height, labels=labels,
+        job = Job(composite.compose, exemplar, width, height, labels=labels,
                   output_labels=layout, seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
 

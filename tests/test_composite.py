@@ -86,8 +86,8 @@ def test_each_subtexture_fills_only_its_own_regions(scene, fill):
         truth[:, 30:] = 1
         img = np.where(truth[:, :, None] == 1, BLUE, RED).astype(np.float32)
         img += np.random.default_rng(0).normal(0, 0.05, img.shape).astype(np.float32)
-    r = composite.synthesize(img, 56, 40, labels=truth, output_labels=layout, fill=fill, seed=1,
-                             **FAST, **params)
+    r = composite.compose(img, 56, 40, labels=truth, output_labels=layout, fill=fill, seed=1,
+                          **FAST, **params)
     assert np.array_equal(r.output_labels, layout)
     assert r.fallbacks == ()
     assert _regions_keep_their_colours(r.image, layout) > 0.99
@@ -95,8 +95,8 @@ def test_each_subtexture_fills_only_its_own_regions(scene, fill):
 
 def test_composite_output_and_its_label_map_tile_and_are_deterministic(scene):
     img, truth = scene
-    a = composite.synthesize(img, 64, 48, labels=truth, seed=3, **FAST)
-    b = composite.synthesize(img, 64, 48, labels=truth, seed=3, **FAST)
+    a = composite.compose(img, 64, 48, labels=truth, seed=3, **FAST)
+    b = composite.compose(img, 64, 48, labels=truth, seed=3, **FAST)
     assert np.array_equal(a.image, b.image) and np.array_equal(a.output_labels, b.output_labels)
     assert a.image.shape == (48, 64, 3) and a.output_labels.shape == (48, 64)
     assert seam_ratio(a.image) < 1.3
@@ -119,7 +119,7 @@ def test_output_label_map_painted_in_the_segmentation_colours(scene):
     layout = np.zeros((32, 32), np.int32)
     layout[:, 16:] = 1
     painted = label_colours(layout)
-    r = composite.synthesize(img, 32, 32, labels=truth, output_labels=painted, seed=0, **FAST)
+    r = composite.compose(img, 32, 32, labels=truth, output_labels=painted, seed=0, **FAST)
     assert np.array_equal(r.output_labels, layout)
 
 
@@ -136,28 +136,37 @@ def test_entropy_order_puts_the_flat_class_first():
 def test_bad_input_is_refused_clearly(scene):
     img, truth = scene
     with pytest.raises(ValueError, match="label image is 40 x 48 pixels; it must be 48 x 48"):
-        composite.synthesize(img, 32, 32, labels=truth[:, :40])
+        composite.compose(img, 32, 32, labels=truth[:, :40])
     with pytest.raises(ValueError, match="single class"):
-        composite.synthesize(img, 32, 32, labels=np.zeros((48, 48), np.int32))
+        composite.compose(img, 32, 32, labels=np.zeros((48, 48), np.int32))
     with pytest.raises(ValueError, match="output label map is 16 x 16 pixels"):
-        composite.synthesize(img, 32, 32, labels=truth, output_labels=np.zeros((16, 16)))
+        composite.compose(img, 32, 32, labels=truth, output_labels=np.zeros((16, 16)))
     with pytest.raises(ValueError, match="labels are 0..1"):
-        composite.synthesize(img, 16, 16, labels=truth, output_labels=np.full((16, 16), 3))
+        composite.compose(img, 16, 16, labels=truth, output_labels=np.full((16, 16), 3))
     with pytest.raises(ValueError, match="single-texture"):
-        composite.synthesize(img, 16, 16, labels=truth, fill="composite")
+        composite.compose(img, 16, 16, labels=truth, fill="composite")
     with pytest.raises(ValueError, match="'fill' must be one of"):
-        composite.synthesize(img, 16, 16, labels=truth, fill="nope")
+        composite.compose(img, 16, 16, labels=truth, fill="nope")
     flat = np.full((32, 32, 3), 0.5, np.float32)
     with pytest.raises(ValueError, match="single class"):
         texsynth.synthesize(flat, 16, 16, method="composite")
 
 
+def test_the_method_is_compose_and_its_image():
+    """One path: texsynth.synthesize(method="composite") is compose's work (from a generator
+    seeded by one draw of the seed's), its image, not a second synthesis."""
+    img, _ = _two_colours((32, 32))
+    out = texsynth.synthesize(img, 24, 16, method="composite", seed=5, **FAST)
+    drawn = int(np.random.default_rng(5).integers(2**31))
+    assert np.array_equal(out, composite.compose(img, 24, 16, seed=drawn, **FAST).image)
+
+
 def test_large_outputs_fill_from_a_half_size_composite_and_still_tile(monkeypatch):
     img, truth = _two_colours((64, 64))
-    direct = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
+    direct = composite.compose(img, 96, 64, labels=truth, seed=3, **FAST)
     monkeypatch.setattr(composite, "COARSE_PIXELS", 40 * 40)  # 96 x 64 is "production size"
-    a = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
-    b = composite.synthesize(img, 96, 64, labels=truth, seed=3, **FAST)
+    a = composite.compose(img, 96, 64, labels=truth, seed=3, **FAST)
+    b = composite.compose(img, 96, 64, labels=truth, seed=3, **FAST)
     assert np.array_equal(a.image, b.image) and not np.array_equal(a.image, direct.image)
     assert a.image.shape == (64, 96, 3) and seam_ratio(a.image) < 1.3
     assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
@@ -200,7 +209,7 @@ def test_boundaries_off_the_even_grid_keep_their_colours_in_the_half_size_fill(m
     layout[:, 41:55] = 1
     layout[45:, 61:91] = 1
     monkeypatch.setattr(composite, "COARSE_PIXELS", 40 * 40)
-    r = composite.synthesize(img, 96, 64, labels=truth, output_labels=layout, seed=1, **FAST)
+    r = composite.compose(img, 96, 64, labels=truth, output_labels=layout, seed=1, **FAST)
     edge = ndimage.binary_dilation(layout == 1) & ndimage.binary_dilation(layout == 0)
     red_side = r.image[:, :, 0] > r.image[:, :, 2]
     assert (red_side == (layout == 0))[edge].mean() > 0.98
@@ -218,8 +227,8 @@ def test_a_large_photo_is_segmented_and_modelled_from_samples_of_all_of_it(monke
     sampled = segment(img)
     assert (sampled == full).mean() > 0.99
     assert max((sampled == truth).mean(), (sampled != truth).mean()) > 0.97
-    a = composite.synthesize(img, 64, 48, seed=3, **FAST)
-    b = composite.synthesize(img, 64, 48, seed=3, **FAST)
+    a = composite.compose(img, 64, 48, seed=3, **FAST)
+    b = composite.compose(img, 64, 48, seed=3, **FAST)
     assert np.array_equal(a.image, b.image) and a.labels.shape == (96, 96)
     assert _regions_keep_their_colours(a.image, a.output_labels) > 0.99
     assert seam_ratio(a.image) < 1.3
@@ -244,8 +253,8 @@ def test_an_output_map_of_one_class_is_filled_with_that_class_texture(one):
     """Each class's model keeps the cliques it shares with its neighbours; an output label map
     without those neighbours (one class) once indexed past the classes it held."""
     x, labels = _three_stripes()
-    out = composite.synthesize(x, 24, 24, labels=labels, output_labels=np.full((24, 24), one),
-                               seed=0, max_cliques=3, sweeps=2).image
+    out = composite.compose(x, 24, 24, labels=labels, output_labels=np.full((24, 24), one),
+                            seed=0, max_cliques=3, sweeps=2).image
     own = x[labels == one]
     assert out.shape == (24, 24, 3) and np.isfinite(out).all()
     assert abs(out.mean() - own.mean()) < 0.05 and 0.7 < out.std() / own.std() < 1.3
@@ -254,7 +263,7 @@ def test_an_output_map_of_one_class_is_filled_with_that_class_texture(one):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_a_one_pixel_composite(seed):
     x, _ = _three_stripes()
-    out = composite.synthesize(x, 1, 1, seed=seed, max_cliques=3, sweeps=2).image
+    out = composite.compose(x, 1, 1, seed=seed, max_cliques=3, sweeps=2).image
     assert out.shape == (1, 1, 3) and np.isfinite(out).all()
 
 
@@ -275,7 +284,7 @@ def test_a_large_composite_of_smooth_subtextures_has_no_salt_and_pepper(monkeypa
     photo = (0.6 * np.where(truth[:, :, None] == 1, BLUE, RED)
              + 0.4 * smooth_noise((64, 64), seed=3, sigma=2.0)).astype(np.float32)
     monkeypatch.setattr(composite, "COARSE_PIXELS", 48 * 48)
-    out = composite.synthesize(photo, 128, 128, labels=truth, seed=1, **FAST)
+    out = composite.compose(photo, 128, 128, labels=truth, seed=1, **FAST)
     assert isolated(photo, half_iqr(photo), truth) == 0
     assert isolated(out.image, half_iqr(photo), out.output_labels) < 0.012
     assert seam_ratio(out.image) < 1.3

@@ -162,7 +162,7 @@ def test_a_file_that_is_no_model_is_refused(tmp_path):
 @pytest.mark.parametrize("size", [(96, 64), (37, 23), (5, 3)])
 def test_model_synthesizes_any_size_without_the_exemplar_and_tiles(model, size):
     width, height = size
-    out = co.synthesize(model, width, height, seed=1, sweeps=10)
+    out = model.synthesize(width, height, seed=1, sweeps=10)
     assert out.shape == (height, width, 3) and out.dtype == np.float32
     assert np.isfinite(out).all()
     if min(size) > 8:

@@ -304,9 +304,9 @@ def test_composite_entry_point(exemplar, drawn, data):
             type(v) is int and 1 <= v <= 40 for v in (width, height)):
         one = data.draw(st.sampled_from([None, 0, 1, 2]))
         output_labels = None if one is None else np.full((height, width), one, np.int32)
-    result = check(lambda: composite.synthesize(exemplar, width, height, labels=labels,
-                                                output_labels=output_labels, seed=seed,
-                                                **params), exemplar)
+    result = check(lambda: composite.compose(exemplar, width, height, labels=labels,
+                                             output_labels=output_labels, seed=seed,
+                                             **params), exemplar)
     if result is not None:
         _sane(result.image, width, height, exemplar)
 

@@ -66,19 +66,21 @@ EXEMPLAR = ramp_photo((32, 32), seed=3)
 MODEL = cooccurrence.fit(smooth_noise((16, 16), seed=1), seed=1, max_cliques=4)
 
 ENTRY_POINTS = {
-    "composite width 0": (lambda: composite.synthesize(EXEMPLAR, 0, 16), "width must be"),
-    "composite float size": (lambda: composite.synthesize(EXEMPLAR, 16.5, 16), "whole number"),
-    "composite negative seed": (lambda: composite.synthesize(EXEMPLAR, 16, 16, seed=-1),
+    "composite width 0": (lambda: composite.compose(EXEMPLAR, 0, 16), "width must be"),
+    "composite float size": (lambda: composite.compose(EXEMPLAR, 16.5, 16), "whole number"),
+    "composite negative seed": (lambda: composite.compose(EXEMPLAR, 16, 16, seed=-1),
                                 "seed must be"),
-    "composite levels 0": (lambda: composite.synthesize(EXEMPLAR, 16, 16, levels=0),
+    "composite levels 0": (lambda: composite.compose(EXEMPLAR, 16, 16, levels=0),
                            "'levels' must be >= 4"),
-    "composite max_offset 0": (lambda: composite.synthesize(EXEMPLAR, 16, 16, max_offset=0),
+    "composite max_offset 0": (lambda: composite.compose(EXEMPLAR, 16, 16, max_offset=0),
                                "'max_offset' must be >= 1"),
     "composite interaction -1": (
-        lambda: composite.synthesize(EXEMPLAR, 16, 16, interaction_distance=-1),
+        lambda: composite.compose(EXEMPLAR, 16, 16, interaction_distance=-1),
         "'interaction_distance' must be >= 0"),
-    "composite 100000 x 100000": (lambda: composite.synthesize(EXEMPLAR, 100000, 100000),
+    "composite 100000 x 100000": (lambda: composite.compose(EXEMPLAR, 100000, 100000),
                                   "width must be between"),
+    "composite unknown parameter": (lambda: composite.compose(EXEMPLAR, 16, 16, sweep=3),
+                                    "composite.compose has no parameter 'sweep'"),
     "fit levels 0": (lambda: cooccurrence.fit(EXEMPLAR, levels=0), "'levels' must be >= 4"),
     "fit max_offset 0": (lambda: cooccurrence.fit(EXEMPLAR, max_offset=0),
                          "'max_offset' must be >= 1"),
@@ -89,7 +91,6 @@ ENTRY_POINTS = {
     "model 100000 x 100000": (lambda: MODEL.synthesize(100000, 100000), "between 1 and"),
     "model sweeps 0": (lambda: MODEL.synthesize(16, 16, sweeps=0), "'sweeps' must be >= 1"),
     "model over the memory budget": (lambda: MODEL.synthesize(16384, 16384), "budget"),
-    "not a model": (lambda: cooccurrence.synthesize("model.npz", 16, 16), "must be a texsynth"),
 }
 
 

@@ -16,7 +16,6 @@ import numpy as np
 import scipy.fft
 
 from . import budget, validation
-from .progress import Progress
 from .registry import get_method, methods
 
 __all__ = ["synthesize", "synthesize_positions", "check"]
@@ -160,10 +159,11 @@ def check(shape, width: int, height: int, *, method: str = "heeger_bergen", seed
     width, height = validation.size(width, height)
     seed = validation.seed(seed)
     shape = (*shape[:2], shape[2] if len(shape) == 3 else 1)
-    # Time first: a run predicted to take days is refused for that, whatever memory it needs.
+    # Time first: a run predicted to take days is refused for that, whatever memory it needs
+    # (check_method's refusal names a faster method; the other entries check memory first).
     budget.check_method(m, shape, width, height, values)
-    validation.check_memory(m.memory(shape, width, height, values),
-                            f"{width} x {height} with '{m.name}'")
+    budget.admit(f"{width} x {height} with '{m.name}'",
+                 peak=m.memory(shape, width, height, values))
     return width, height, seed, values
 
 
@@ -178,11 +178,9 @@ def _run(exemplar, width, height, method, seed, progress, params, want_positions
         constant_alpha = a[0, 0, 3]
         a = np.ascontiguousarray(a[:, :, :3])
 
-    report = Progress(progress)
-    report(0.0, f"{m.label}: starting")
-    rng = np.random.default_rng(seed)
+    rng, report = budget.start(seed, progress, f"{m.label}: starting")
     scale = validation.magnitude_scale(a)
-    work = a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
+    work = validation.ordinary(a, scale)
     with scipy.fft.set_workers(-1):  # every core for the FFTs; results do not depend on it
         out = m.function(work, width, height, rng, report, **values)
     positions = None

@@ -20,6 +20,10 @@ in the same processes, following neither.
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
 time and what to change.
+
+Every entry point's prologue has its home here too: :func:`admit` checks a run's predicted
+peak bytes (``validation.check_memory``) and seconds (:func:`check_time`) before any work, and
+:func:`start` makes its seeded generator and its :class:`~texsynth.progress.Progress`.
 """
 
 from __future__ import annotations
@@ -33,10 +37,12 @@ import scipy.fft as sfft
 
 from . import validation
 from .blocks.parallel import WORKERS
+from .progress import Progress
 from .registry import get_method, methods
 
 __all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "forecast",
-           "forecast_line", "check_time", "check_method", "describe", "DEFAULT_BUDGET"]
+           "forecast_line", "check_time", "check_method", "describe", "admit", "start",
+           "DEFAULT_BUDGET"]
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
@@ -238,3 +244,86 @@ def check_method(method, exemplar_shape, width: int, height: int, params: dict) 
                   if fits else "")
         check_time(seconds, f"{width} x {height} with '{method.name}'", advice)
     return seconds
+
+
+def admit(what: str, *, peak: float | None = None, seconds: float | None = None,
+          memory_advice: str = "", time_advice: str = "") -> None:
+    """Both budgets of a run, before any work: ``peak`` bytes, then ``seconds`` (predicted on
+    this machine as loaded now); either left out is not checked.
+
+    Parameters
+    ----------
+    what : str
+        The run, as the refusal names it ("making the 512 x 512 photo tileable").
+    peak : float, optional
+        Its predicted peak bytes, against :func:`texsynth.validation.memory_budget`.
+    seconds : float, optional
+        Its predicted seconds on this machine, against :func:`time_budget`.
+    memory_advice, time_advice : str
+        What else to change, added to each refusal ("a narrower band").
+
+    Raises
+    ------
+    texsynth.validation.BudgetError
+        Over either budget (memory is checked first), naming the prediction and the budget.
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Entry points" and "Methods" (the memory estimate and
+    the cost model, checked before any allocation).
+
+    Examples
+    --------
+    >>> admit("a small run", peak=2**20, seconds=0.5)
+    >>> admit("a huge run", peak=2**50)
+    Traceback (most recent call last):
+    ...
+    texsynth.validation.BudgetError: a huge run needs about 1048576.0 GiB, over the budget ...
+    """
+    if peak is not None:
+        validation.check_memory(peak, what, memory_advice)
+    if seconds is not None:
+        check_time(seconds, what, time_advice)
+
+
+def start(seed, progress: Callable[[float, str], object] | None = None,
+          message: str | None = None) -> tuple[np.random.Generator, Progress]:
+    """A run's seeded generator and progress reporter, made the one way every entry makes them.
+
+    Parameters
+    ----------
+    seed : int or numpy.random.Generator
+        A seed (a non-negative whole number, checked) or, inside the core, a generator passed
+        down, which is used as it is.
+    progress : callable(fraction, message) or Progress, optional
+        The caller's callback; a :class:`~texsynth.progress.Progress` (a span handed down) is
+        used as it is.
+    message : str, optional
+        Reported at fraction 0 before returning ("Heeger-Bergen: starting").
+
+    Returns
+    -------
+    rng : numpy.random.Generator
+    report : Progress
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Randomness" (one ``default_rng(seed)`` a public call)
+    and "Progress".
+
+    Examples
+    --------
+    >>> rng, report = start(7)
+    >>> float(rng.random()) == float(np.random.default_rng(7).random())
+    True
+    >>> start(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: seed must be a non-negative whole number, got -1
+    """
+    rng = seed if isinstance(seed, np.random.Generator) \
+        else np.random.default_rng(validation.seed(seed))
+    report = progress if isinstance(progress, Progress) else Progress(progress)
+    if message is not None:
+        report(0.0, message)
+    return rng, report

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Param", "Method", "register", "methods", "get_method"]
+__all__ = ["Param", "Method", "register", "methods", "get_method", "resolve"]
 
 
 @dataclass(frozen=True)
@@ -168,15 +168,51 @@ class Method:
         raise KeyError(name)
 
     def resolve(self, params: dict) -> dict:
-        """Defaults filled in and every value validated; unknown names raise ``ValueError``."""
-        known = {p.name for p in self.params}
-        unknown = sorted(set(params) - known)
-        if unknown:
-            raise ValueError(
-                f"method '{self.name}' has no parameter {', '.join(map(repr, unknown))}; "
-                f"its parameters are: {', '.join(sorted(known)) or 'none'}"
-            )
-        return {p.name: p.validate(params.get(p.name, p.default)) for p in self.params}
+        """Defaults filled in and every value validated; unknown names raise ``ValueError``
+        (:func:`resolve`)."""
+        return resolve(self.params, params, f"method '{self.name}'")
+
+
+def resolve(specs: tuple[Param, ...], values: dict, owner: str) -> dict:
+    """Every parameter of ``specs``: its value from ``values`` or its default, validated.
+
+    The one resolver of parameters: :meth:`Method.resolve` and the method modules' own public
+    functions (``composite.compose``, ``cooccurrence.fit``) check their keywords here.
+
+    Parameters
+    ----------
+    specs : tuple of Param
+        The parameters, in order.
+    values : dict
+        The values given by name; each is coerced by :meth:`Param.validate`.
+    owner : str
+        Who takes them, as an unknown name's refusal says it ("method 'composite'").
+
+    Returns
+    -------
+    dict
+        Every name of ``specs``, in order, with its value.
+
+    References
+    ----------
+    docs/ARCHITECTURE.md, Conventions, "Methods" (typed ``Param`` records).
+
+    Examples
+    --------
+    >>> specs = (Param("sweeps", int, 30, "Sweeps", 1, 500),)
+    >>> resolve(specs, {"sweeps": 4.0}, "the model")
+    {'sweeps': 4}
+    >>> resolve(specs, {"sweep": 4}, "the model")
+    Traceback (most recent call last):
+    ...
+    ValueError: the model has no parameter 'sweep'; its parameters are: sweeps
+    """
+    known = {p.name for p in specs}
+    unknown = sorted(set(values) - known)
+    if unknown:
+        raise ValueError(f"{owner} has no parameter {', '.join(map(repr, unknown))}; "
+                         f"its parameters are: {', '.join(sorted(known)) or 'none'}")
+    return {p.name: p.validate(values.get(p.name, p.default)) for p in specs}
 
 
 _METHODS: dict[str, Method] = {}

@@ -108,7 +108,6 @@ from . import budget, metrics, validation
 from .blocks import poisson, rhythm
 from .blocks.joints import luma
 from .blocks.quilting import Search, block_means, min_error_path
-from .progress import Progress
 
 __all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict",
            "check", "tiles"]
@@ -617,8 +616,8 @@ def check(shape, *, band: int | None = None, seed: int = 0) -> tuple[int, int]:
                          f"change more than half of the {w} x {h} photo), got {band}")
     what = f"making the {w} x {h} photo tileable"
     seconds, peak = predict((h, w, shape[2] if len(shape) == 3 else 1), band)
-    validation.check_memory(peak, what, "a narrower band")
-    budget.check_time(seconds, what, "try a smaller photo or a narrower band")
+    budget.admit(what, peak=peak, seconds=seconds, memory_advice="a narrower band",
+                 time_advice="try a smaller photo or a narrower band")
     return band, seed
 
 
@@ -667,14 +666,13 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     # Values of huge or tiny magnitude are quilted at an exact power-of-two scale (squared
     # differences near 1e30 overflow float32), and the result is the photo's own pixels.
     scale = validation.magnitude_scale(a)
-    given, a = a, a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
-    report = Progress(progress)
+    given, a = a, validation.ordinary(a, scale)
+    rng, report = budget.start(seed, progress)
     if tiles(a):  # the photo already tiles: returned as it is, every pixel its own position
         report(1.0, "Make tileable: the photo already tiles")
         return given.copy(), np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
     report(0.0, "Make tileable: starting")
 
-    rng = np.random.default_rng(seed)
     lay = _Layout(h, w, band)
     out = a.copy()
     positions = np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()

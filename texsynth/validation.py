@@ -7,8 +7,8 @@ the checked array itself.
 - :func:`image`: an image array (H, W) or (H, W, C), numeric and finite, as float32 (H, W, C);
 - :func:`size` and :func:`seed`: output sizes and seeds, whole numbers in range;
 - :func:`whole` and :func:`finite`: a bounded whole number, a finite real number;
-- :func:`params`: keyword arguments against a method's typed ``Param`` records;
-- :func:`magnitude_scale`: the power of two that brings huge or tiny values to order one;
+- :func:`magnitude_scale`: the power of two that brings huge or tiny values to order one, and
+  :func:`ordinary`: an image multiplied by it, exactly;
 - :func:`check_side`: an image's shape large enough (what a file's header alone can tell);
 - :func:`memory_budget` and :func:`check_memory`: the planned peak bytes against the budget
   (the time budget is :mod:`texsynth.budget`'s); :func:`budget_variable` reads either
@@ -22,7 +22,7 @@ import os
 import numpy as np
 
 __all__ = ["MAX_SIDE", "BudgetError", "image", "check_side", "size", "seed", "number", "whole",
-           "finite", "params", "magnitude_scale", "memory_budget", "budget_variable",
+           "finite", "magnitude_scale", "ordinary", "memory_budget", "budget_variable",
            "check_memory"]
 
 #: Largest output side accepted (pixels).
@@ -123,17 +123,6 @@ def finite(value, name: str) -> float:
     return float(value)
 
 
-def params(specs, values: dict, owner: str) -> dict:
-    """``values`` checked against the ``Param`` records ``specs``: each coerced to its type and
-    range (``ValueError`` naming the parameter); unknown names are refused."""
-    known = {p.name: p for p in specs}
-    unknown = sorted(set(values) - set(known))
-    if unknown:
-        raise ValueError(f"{owner} has no parameter {', '.join(map(repr, unknown))}; "
-                         f"its parameters are: {', '.join(sorted(known))}")
-    return {name: known[name].validate(v) for name, v in values.items()}
-
-
 #: Magnitudes (powers of two) between which values are worked on as they are.
 ORDINARY = (-16, 16)
 
@@ -148,6 +137,21 @@ def magnitude_scale(a: np.ndarray) -> float:
         return 1.0
     k = int(np.floor(np.log2(peak)))
     return 1.0 if ORDINARY[0] <= k <= ORDINARY[1] else float(2.0 ** -k)
+
+
+def ordinary(a: np.ndarray, scale: float | None = None) -> np.ndarray:
+    """``a`` (float32) times ``scale``, exactly (a power of two, through float64): ``a`` itself
+    when ``scale`` is 1; default ``scale``: its own :func:`magnitude_scale`.
+
+    Examples
+    --------
+    >>> huge = np.full((2, 2, 1), 3e30, np.float32)
+    >>> scale = magnitude_scale(huge)
+    >>> scale < 1e-30, bool((ordinary(huge) / scale == huge).all())
+    (True, True)
+    """
+    scale = magnitude_scale(a) if scale is None else scale
+    return a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
 
 
 #: Bytes a synthesis may plan to use when ``TEXSYNTH_MEMORY_BUDGET`` is not set.

@@ -50,7 +50,7 @@ def _interactions(ctx, done, out_side: int) -> list[str]:
              "|---|---|---|---|---|---|"]
     for tex, ex, on in done:
         result = on.result
-        off = ctx.measure(lambda ex=ex, r=result: composite.synthesize(
+        off = ctx.measure(lambda ex=ex, r=result: composite.compose(
             ex, out_side, out_side, labels=r.labels, output_labels=r.output_labels, seed=SEED,
             interaction_distance=0), repeats=1)
         patch = [ctx.quality(ex, m.result.image)["patch_distance"] for m in (on, off)]
@@ -97,8 +97,8 @@ def run(ctx) -> str:
     for tex in textures:
         ex = _crop(tex.image, side)
         try:
-            comp = ctx.measure(lambda ex=ex: composite.synthesize(ex, out_side, out_side,
-                                                                  seed=SEED), repeats=1)
+            comp = ctx.measure(lambda ex=ex: composite.compose(ex, out_side, out_side,
+                                                               seed=SEED), repeats=1)
         except ValueError as error:
             table.append(f"| {tex.short} | {ex.shape[1]} | 1 | {error} | | | | | | |")
             continue
@@ -107,7 +107,7 @@ def run(ctx) -> str:
         fit = ctx.measure(lambda ex=ex: cooccurrence.fit(ex, seed=SEED), repeats=1)
         model = fit.result
         single = ctx.measure(
-            lambda m=model: cooccurrence.synthesize(m, out_side, out_side, seed=SEED), repeats=1)
+            lambda m=model: m.synthesize(out_side, out_side, seed=SEED), repeats=1)
         rows.append([ex, label_colours(result.labels), label_colours(result.output_labels),
                      result.image, single.result])
         q_c, q_s = ctx.quality(ex, result.image), ctx.quality(ex, single.result)

@@ -73,10 +73,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft as sfft
 
-from .. import validation
+from .. import budget, validation
 from ..blocks.periodic import periodic_component
 from ..blocks.quilting import Search, block_means, min_error_path
-from ..progress import Progress
 from .blend import vertex_offsets
 
 __all__ = ["WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions", "edge_colours",
@@ -482,15 +481,13 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int 
     if tile is not None and gutter > tile // 4:
         raise ValueError(f"gutter must be at most a quarter of the tile ({tile // 4} pixels), "
                          f"got {gutter}")
-    validation.check_memory(predict_tiles_memory(a.shape, tile or largest, colours, gutter),
-                            f"Wang tiles from the {w} x {h} photo", "smaller tiles")
-    report = Progress(progress)
-    report(0.0, "Wang tiles: the tile side")
+    budget.admit(f"Wang tiles from the {w} x {h} photo", memory_advice="smaller tiles",
+                 peak=predict_tiles_memory(a.shape, tile or largest, colours, gutter))
+    rng, report = budget.start(seed, progress, "Wang tiles: the tile side")
     if tile is None:
         tile = _fit_tile(a.mean(axis=2), largest, _sample_step((h, w)))
         gutter = min(gutter, tile // 4)
     t = tile
-    rng = np.random.default_rng(seed)
 
     placer = _Placer(a, t, gutter)
     placer.ring = _ring(t)

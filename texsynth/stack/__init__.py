@@ -37,7 +37,6 @@ from ..algorithms import multiscale_mrf
 from ..api import synthesize_positions
 from ..blocks.search import disk_offsets
 from ..positions import apply_positions
-from ..progress import Progress
 from .guided import C_SUPPORT, guided_mrf
 
 __all__ = ["synthesize_stack", "validate_stack", "C_SUPPORT"]
@@ -141,14 +140,14 @@ def synthesize_stack(
     guided_params = {k: v for k, v in mrf_params.items()
                      if k not in ("joint_width", "feature_weight")}
     if mode == "guided":
-        _check_memory(views, support, width, height, mrf_params)
         # each guided view costs about one multiscale_mrf run (the support's is checked by
         # synthesize_positions)
-        budget.check_time(len(views) * budget.predict(mrf, views[support].shape, width, height,
-                                                      mrf_params),
-                          f"guided synthesis of {len(views)} maps of {width} x {height}",
-                          "mode='column'")
-    report = Progress(progress)
+        budget.admit(f"guided synthesis of {len(views)} maps of {width} x {height}",
+                     peak=_memory(views, support, width, height, mrf_params),
+                     seconds=len(views) * budget.predict(mrf, views[support].shape, width,
+                                                         height, mrf_params),
+                     memory_advice="use mode='column'", time_advice="mode='column'")
+    _, report = budget.start(seed, progress)
     share = 1.0 / len(views) if mode == "guided" else 1.0
     image_a, positions = synthesize_positions(views[support], width, height, method, seed,
                                               report.span(0.0, share), **params)
@@ -162,8 +161,8 @@ def synthesize_stack(
         rng = np.random.default_rng([int(seed), v])
         span = report.span(share * (n + 1), share * (n + 2))
         # huge or tiny values are compared at an exact power-of-two scale, as in synthesize
-        a_in, b_in = _ordinary(views[support]), _ordinary(views[v])
-        a_out = _ordinary(image_a, validation.magnitude_scale(views[support]))
+        a_in, b_in = validation.ordinary(views[support]), validation.ordinary(views[v])
+        a_out = validation.ordinary(image_a, validation.magnitude_scale(views[support]))
         flat = guided_mrf(a_in, b_in, a_out, positions, rng, span, c, **guided_params)
         h, w = views[v].shape[:2]
         out[v] = views[v].reshape(h * w, -1)[flat]
@@ -173,15 +172,9 @@ def synthesize_stack(
     return out
 
 
-def _ordinary(a: np.ndarray, scale: float | None = None) -> np.ndarray:
-    """``a`` times ``scale`` (default: its own ``validation.magnitude_scale``), exactly."""
-    scale = validation.magnitude_scale(a) if scale is None else scale
-    return a if scale == 1.0 else (a.astype(np.float64) * scale).astype(np.float32)
-
-
-def _check_memory(views, support, width, height, params) -> None:
-    """``ValueError`` before any work when the largest guided view's exemplar table (K (C_B + 1)
-    + (K + 1) (C_A + 1) floats a pixel), maps and batch exceed the memory budget."""
+def _memory(views, support, width, height, params) -> float:
+    """Peak bytes of the largest guided view: its exemplar table (K (C_B + 1) + (K + 1)
+    (C_A + 1) floats a pixel), maps and batch."""
     h, w = views[support].shape[:2]
     k = len(disk_offsets(params["radius"]))
     c_a = views[support].shape[2]
@@ -189,5 +182,4 @@ def _check_memory(views, support, width, height, params) -> None:
     table = h * w * 4 * (k * (c_b + 1) + (k + 1) * (c_a + 1))
     maps = width * height * (4 * c_a + 4 + 2 + 4 + 4 + 4 * c_b)
     batch = width * height / (params["radius"] + 1) ** 2 * (k + 1) * (40 + 4 * c_a)
-    validation.check_memory(table + maps + batch, f"guided synthesis of {width} x {height}",
-                            "use mode='column'")
+    return table + maps + batch

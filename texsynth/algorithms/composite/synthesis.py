@@ -2,9 +2,9 @@
 
 Zalesny et al. 2002, sections 1, 3 and 4::
 
-    result = texsynth.composite.synthesize(exemplar, 512, 512)             # all automatic
-    result = texsynth.composite.synthesize(exemplar, 512, 512, labels=mask,
-                                           output_labels=painted_layout)
+    image = texsynth.synthesize(exemplar, 512, 512, method="composite")   # all automatic
+    result = texsynth.composite.compose(exemplar, 512, 512, labels=mask,
+                                        output_labels=painted_layout)
     result.image, result.labels, result.output_labels
 
 1. Segment the exemplar: ``labels`` painted by the user (one flat colour per class), or the
@@ -54,6 +54,11 @@ Deviations, one line each:
   proposals bounded by each pixel's neighbours (as ``texsynth.cooccurrence``); each
   component's dither keeps the exemplar's correlation within a level
   (``cooccurrence.model.residual_correlation``).
+
+References
+----------
+Zalesny et al. 2002, sections 1, 3 (segmentation) and 4 (label texture, subtexture
+interactions); section 2 for the clique model that fills the regions.
 """
 
 from __future__ import annotations
@@ -67,8 +72,7 @@ from scipy import ndimage
 from ... import budget, validation
 from ...api import synthesize as synthesize_method
 from ...blocks.color import ColorPCA
-from ...progress import Progress
-from ...registry import Param, get_method, methods
+from ...registry import Param, get_method, methods, resolve
 from ..cooccurrence import COARSE_PIXELS, REFINE_SWEEPS, upsample_half
 from ..cooccurrence import METHOD as CLIQUE_MODEL
 from ..cooccurrence import model as co
@@ -90,11 +94,11 @@ from .segmentation import (
     segment,
 )
 
-__all__ = ["Composite", "synthesize", "synthesize_labels", "complexity_order",
+__all__ = ["Composite", "compose", "composite", "synthesize_labels", "complexity_order",
            "class_proportion_error", "INTERACTION_DISTANCE", "MIN_SQUARE", "PARAMS"]
 
 INTERACTION_DISTANCE = 2
-#: The label texture's share of the progress (:func:`synthesize`).
+#: The label texture's share of the progress (:func:`compose`).
 LABEL_SHARE = 0.15
 #: Smallest inscribed square (pixels a side) handed to another fill method.
 MIN_SQUARE = 24
@@ -108,7 +112,7 @@ MIN_EXEMPLAR = 16
 #: (Gaussian sigma), in coarse pixels; half a pixel spreads boundaries evenly over the fine grid.
 SHIFT, SHIFT_LENGTH = 0.5, 2.0
 
-#: The method's parameters (the registered ``composite`` method's; :func:`synthesize` checks
+#: The method's parameters (the registered ``composite`` method's; :func:`compose` checks
 #: its keyword arguments against them).
 PARAMS = (
     Param("fill", str, "cooccurrence", "Method that fills each region (clique model: with "
@@ -242,8 +246,7 @@ def synthesize_labels(labels: np.ndarray, width: int, height: int, *,
     (0: automatic, the mean run length over ``max_offset``, at most 8, keeping at least 32
     pixels a side).
     """
-    rng = np.random.default_rng(seed)
-    report = progress if isinstance(progress, Progress) else Progress(progress)
+    rng, report = budget.start(seed, progress)
     classes = int(labels.max()) + 1
     f = label_scale or int(np.clip(round(_run_length(labels) / max_offset), 1, 8))
     f = max(1, min(f, min(labels.shape) // 32 or 1))
@@ -558,43 +561,69 @@ def _class_colours(label_image, labels: np.ndarray, classes: int) -> np.ndarray:
                      for c in range(a.shape[2])], axis=1)
 
 
-def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=None,
-               fill: str = "cooccurrence", seed: int = 0,
-               progress: Callable[[float, str], object] | None = None,
-               interaction_distance: int = INTERACTION_DISTANCE,
-               max_offset: int = co.MAX_OFFSET, threshold: float = co.THRESHOLD,
-               max_cliques: int = co.MAX_CLIQUES, levels: int = co.LEVELS,
-               sweeps: int = co.SWEEPS, label_scale: int = 0, contrast: float = CONTRAST,
-               texture_features: bool = False, selection_size: int = co.SELECTION_SIZE,
-               fill_params: dict | None = None) -> Composite:
-    """Synthesize a periodic composite texture of ``width`` x ``height`` (see module notes).
+def compose(exemplar, width: int, height: int, *, labels=None, output_labels=None,
+            seed: int = 0, progress: Callable[[float, str], object] | None = None,
+            selection_size: int = co.SELECTION_SIZE, fill_params: dict | None = None,
+            **params) -> Composite:
+    """The composite texture with its label maps: the exemplar's, painted or found, and the
+    output's, painted or synthesized (see module notes).
+
+    ``texsynth.synthesize(exemplar, width, height, method="composite", **params)`` gives the
+    image of the automatic case; this is the composite's own entry for what a method's
+    parameters cannot carry: label images in, the label maps and the classes' order out.
 
     Parameters
     ----------
-    exemplar : (H, W) or (H, W, C) image, sRGB-encoded for the automatic segmentation.
-    labels : optional label image of the exemplar, the same H x W: integer classes, or a
-        painted colour image with one flat colour per class. None: unsupervised segmentation
-        (``contrast``, ``texture_features``: see :func:`.segmentation.segment`).
-    output_labels : optional label map of the output, ``height`` x ``width``: integer classes
-        of ``labels``, or colours (each pixel takes the class of the nearest class colour: the
-        painted colours of ``labels``, or :func:`.segmentation.label_colours`'s
-        palette for automatic labels). None: synthesized from the label texture.
-    fill : ``"cooccurrence"`` (with interactions) or the name of any registered method.
-    interaction_distance : reach of the cross-boundary cliques (0: none).
-    fill_params : parameters for the other fill method.
+    exemplar : array (H, W) or (H, W, C)
+        The sample, sRGB-encoded for the automatic segmentation.
+    width, height : int
+        The output size; a painted ``output_labels`` must have it.
+    labels : array (H, W) or (H, W, C), optional
+        The exemplar's classes, its size: integer classes, or a painted colour image with one
+        flat colour per class. None: unsupervised segmentation (``contrast``,
+        ``texture_features``: see :func:`.segmentation.segment`).
+    output_labels : array (height, width) or (height, width, C), optional
+        The output's layout: integer classes of ``labels``, or colours (each pixel takes the
+        class of the nearest class colour: the painted colours of ``labels``, or
+        :func:`.segmentation.label_colours`'s palette for automatic labels). None:
+        synthesized from the label texture.
+    seed : int
+        Same inputs and seed give bit-identical output.
+    progress : callable(fraction, message), optional
+        As for ``texsynth.synthesize``.
+    selection_size : int
+        Side of the window of the exemplar on which a class's clique types are selected.
+    fill_params : dict, optional
+        Parameters of the other fill method (``fill`` not ``"cooccurrence"``).
+    **params
+        The ``composite`` method's parameters (``PARAMS``: ``fill``, ``interaction_distance``,
+        ``max_offset``, ...), their defaults when left out.
+
+    Returns
+    -------
+    Composite
+        The image (height, width, C), ``labels``, ``output_labels``, ``order``, ``fallbacks``.
 
     Raises ``ValueError`` for a label image of the wrong size, a single class, or a fill
     method that does not exist.
+
+    References
+    ----------
+    Zalesny et al. 2002, sections 3 (segmentation) and 4 (label texture, interactions).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> grain = 0.05 * np.random.default_rng(0).random((24, 24, 3), dtype=np.float32)
+    >>> photo = grain + np.where(np.arange(24) < 12, 0.2, 0.8).astype(np.float32)[:, None]
+    >>> halves = np.repeat((np.arange(24) >= 12)[:, None], 24, axis=1).astype(np.int32)
+    >>> result = compose(photo, 24, 16, labels=halves, seed=1, sweeps=1, max_cliques=2)
+    >>> result.image.shape, result.output_labels.shape, sorted(result.order)
+    ((16, 24, 3), (16, 24), [0, 1])
     """
-    if fill == "composite":
+    if params.get("fill") == "composite":
         raise ValueError("fill must be a single-texture method, not 'composite'")
-    checked = validation.params(PARAMS, {
-        "fill": fill, "interaction_distance": interaction_distance, "max_offset": max_offset,
-        "threshold": threshold, "max_cliques": max_cliques, "levels": levels, "sweeps": sweeps,
-        "label_scale": label_scale, "contrast": contrast, "texture_features": texture_features,
-    }, "composite.synthesize")
-    (fill, interaction_distance, max_offset, threshold, max_cliques, levels, sweeps,
-     label_scale, contrast, texture_features) = checked.values()
+    checked = resolve(PARAMS, params, "composite.compose")
     x = validation.image(exemplar, min_side=MIN_EXEMPLAR)
     width, height = validation.size(width, height)
     seed = validation.seed(seed)
@@ -602,17 +631,95 @@ def synthesize(exemplar, width: int, height: int, *, labels=None, output_labels=
     if fill_params is not None and not isinstance(fill_params, dict):
         raise ValueError(f"fill_params must be a dict of the fill method's parameters, got "
                          f"{type(fill_params).__name__}")
-    validation.check_memory(memory(x.shape, width, height, checked),
-                            f"composite synthesis of {width} x {height}")
-    budget.check_time(cost(x.shape, width, height, checked) * budget.machine_factor(),
-                      f"composite synthesis of {width} x {height}")
-    rng = np.random.default_rng(seed)
-    report = Progress(progress)
+    what = f"composite synthesis of {width} x {height}"
+    budget.admit(what, peak=memory(x.shape, width, height, checked),
+                 seconds=cost(x.shape, width, height, checked) * budget.machine_factor())
+    rng, report = budget.start(seed, progress)
+    return _compose(x, width, height, rng, report, checked, labels, output_labels,
+                    selection_size, fill_params)
+
+
+def composite(exemplar, width, height, rng, progress, fill="cooccurrence",
+              interaction_distance=INTERACTION_DISTANCE, max_offset=co.MAX_OFFSET,
+              threshold=co.THRESHOLD, max_cliques=co.MAX_CLIQUES, levels=co.LEVELS,
+              sweeps=co.SWEEPS, label_scale=0, contrast=CONTRAST, texture_features=False):
+    """Segment ``exemplar`` into subtextures, synthesize a label map and fill each region
+    (height, width, C) (see the module notes); the registered ``composite`` method.
+
+    Deviation: the work draws from a generator seeded by one draw of ``rng`` (so a seed gives
+    the image it gave when this function called :func:`compose`).
+
+    Parameters
+    ----------
+    exemplar : float32 array (H, W, C)
+        The sample, validated by ``texsynth.synthesize``.
+    width, height : int
+        The output size, larger or smaller than the exemplar.
+    rng, progress : numpy.random.Generator, texsynth.progress.Progress
+        The seeded generator and the progress reporter ``texsynth.synthesize`` makes.
+    fill : str
+        Method that fills each region (``cooccurrence``, the clique model, with interactions;
+        or another registered method but ``composite``).
+    interaction_distance : int
+        Reach of the cliques across subtexture boundaries (0: none).
+    max_offset : int
+        Longest clique type considered (pixels).
+    threshold : float
+        Stop adding clique types when the worst histogram distance is below this.
+    max_cliques : int
+        Most clique types per subtexture and colour component.
+    levels : int
+        Grey levels of the strongest colour component.
+    sweeps : int
+        Relaxation sweeps over the output.
+    label_scale : int
+        Scale at which the label map is modelled (0: automatic).
+    contrast : float
+        Segmentation: colour difference (Lab) below which regions join one class; larger gives
+        fewer classes (0: automatic, the largest of 6, 3, 2 that finds two classes).
+    texture_features : bool
+        Segmentation: add filter-bank texture features to the colour.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 (height, width, C), periodic.
+
+    References
+    ----------
+    Zalesny et al. 2002, section 3 (the segmentation), section 4 (the label texture and the
+    subtextures' interactions) and section 2 (the clique model that fills them).
+
+    Examples
+    --------
+    A dark and a light subtexture side by side: the output holds both, in like shares.
+
+    >>> import numpy as np, texsynth
+    >>> grain = 0.05 * np.random.default_rng(0).random((24, 24, 3), dtype=np.float32)
+    >>> photo = grain + np.where(np.arange(24) < 12, 0.2, 0.8).astype(np.float32)[:, None]
+    >>> out = texsynth.synthesize(photo, 24, 24, method="composite", seed=1, sweeps=1,
+    ...                           max_cliques=2, max_offset=2)
+    >>> out.shape, 0.25 < float((out[..., 0] < 0.5).mean()) < 0.75
+    ((24, 24, 3), True)
+    """
+    params = {"fill": fill, "interaction_distance": interaction_distance,
+              "max_offset": max_offset, "threshold": threshold, "max_cliques": max_cliques,
+              "levels": levels, "sweeps": sweeps, "label_scale": label_scale,
+              "contrast": contrast, "texture_features": texture_features}
+    rng = np.random.default_rng(int(rng.integers(2**31)))
+    return _compose(exemplar, width, height, rng, progress, params).image
+
+
+def _compose(x, width, height, rng, report, params, labels=None, output_labels=None,
+             selection_size=co.SELECTION_SIZE, fill_params=None) -> Composite:
+    """Steps 1-5 on the validated exemplar ``x``, with ``params`` the method's (resolved)."""
+    (fill, interaction_distance, max_offset, threshold, max_cliques, levels, sweeps,
+     label_scale, contrast, texture_features) = (params[p.name] for p in PARAMS)
     h, w = x.shape[:2]
     # the progress' shares: the segmentation by the cost model, the label texture measured
     # (a fixed 0.18 had taken 0.03-0.13 of the time at 128 -> 256, the brick's 0.15), the
     # fill the rest
-    segmented = 3.5e-7 * h * w / cost(x.shape, width, height, checked)
+    segmented = 3.5e-7 * h * w / cost(x.shape, width, height, params)
     labelled = segmented + LABEL_SHARE
     if labels is None:
         report(0.0, "segmenting the exemplar")

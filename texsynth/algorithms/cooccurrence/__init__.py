@@ -4,8 +4,8 @@ Everything of the method lives in this package:
 
 - ``cliques.py``: clique types, difference histograms, the stochastic relaxation;
 - ``model.py``: clique-type selection (steps 1-7), the model and its file, synthesis from it;
-- here: the registered method (fit, then synthesize from the model) and the public names
-  ``fit``, ``synthesize`` and ``Model`` (fit once, synthesize at any size without the exemplar).
+- here: the registered method (fit, then relax from the model) and the public names ``fit``
+  and ``Model`` (fit once, then ``model.synthesize`` at any size without the exemplar).
 
 Deviation (production sizes, multiresolution relaxation): an output of more than
 ``COARSE_PIXELS`` pixels is first synthesized at half size from the exemplar block-averaged by 2
@@ -39,12 +39,12 @@ from .model import (
     Model,
     fit,
     fit_share,
+    relax,
     sampled_pixels,
-    synthesize,
 )
 from .model import cost as model_cost
 
-__all__ = ["Model", "fit", "synthesize", "METHOD", "COARSE_PIXELS", "REFINE_SWEEPS"]
+__all__ = ["Model", "fit", "METHOD", "COARSE_PIXELS", "REFINE_SWEEPS"]
 
 #: Outputs larger than this (pixels) start from a half-size synthesis.
 COARSE_PIXELS = 512 * 512
@@ -115,8 +115,7 @@ def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
     # fifth of the time, or at half of it, as the output's size went
     fitted = fit_share(exemplar.shape, width, height, {**params, "sweeps": sweeps})
     model = fit(exemplar, seed=rng, progress=progress.span(0.0, fitted), **params)
-    return synthesize(model, width, height, seed=rng, sweeps=sweeps,
-                      progress=progress.span(fitted, 1.0), start=start)
+    return relax(model, width, height, rng, progress.span(fitted, 1.0), sweeps, start)
 
 
 def upsample_half(coarse: np.ndarray, height: int, width: int, tick) -> np.ndarray:

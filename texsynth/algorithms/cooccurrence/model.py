@@ -7,7 +7,7 @@ singleton (intensity) histogram. Once fitted, the exemplar is no longer needed::
 
     model = texsynth.cooccurrence.fit(exemplar)
     model.save("marble.npz")                      # a few KB
-    image = texsynth.cooccurrence.synthesize(Model.load("marble.npz"), 1024, 1024, seed=1)
+    image = Model.load("marble.npz").synthesize(1024, 1024, seed=1)
 
 Selection (:func:`select`), as in the paper:
     1. the difference histograms of every clique type up to ``max_offset`` in the exemplar;
@@ -67,7 +67,7 @@ from scipy import ndimage, special
 from ... import budget, validation
 from ...blocks.color import ColorPCA
 from ...progress import Progress
-from ...registry import Param
+from ...registry import Param, resolve
 from .cliques import (
     ANCHORS,
     GOLOMB,
@@ -81,7 +81,7 @@ from .cliques import (
     strips,
 )
 
-__all__ = ["ChannelModel", "Model", "fit", "fit_channel", "synthesize", "select", "quantize",
+__all__ = ["ChannelModel", "Model", "fit", "fit_channel", "relax", "select", "quantize",
            "label_levels", "level_statistics", "residual_correlation", "dither",
            "principal_components", "FORMAT", "PARAMS"]
 
@@ -105,7 +105,7 @@ TYPE_GROUP = 16
 ROWS = 64
 
 #: The method's parameters (the registered ``cooccurrence`` method's, checked by :func:`fit`
-#: and :func:`synthesize` too).
+#: and :meth:`Model.synthesize` too).
 PARAMS = (
     Param("max_offset", int, MAX_OFFSET, "Longest clique type considered (pixels)", 1, 16),
     Param("threshold", float, THRESHOLD,
@@ -116,7 +116,7 @@ PARAMS = (
     Param("sweeps", int, SWEEPS, "Relaxation sweeps over the output", 1, 500),
 )
 #: Bytes a synthesis needs per output pixel and selected clique type (see ``_memory`` in
-#: ``__init__``): checked before :func:`synthesize` allocates.
+#: ``__init__``): checked before :meth:`Model.synthesize` allocates.
 BYTES_PER_PIXEL = 4 * 6 + 3 * 4 * 4
 BYTES_PER_PIXEL_AND_TYPE = 8
 
@@ -411,10 +411,25 @@ class Model:
         if not all(np.isfinite(np.asarray(a, np.float64)).all() for a in arrays):
             raise ValueError("the colour transform holds non-finite values")
 
-    def synthesize(self, width: int, height: int, *, seed: int = 0, sweeps: int = SWEEPS,
-                   progress: Callable[[float, str], object] | None = None) -> np.ndarray:
-        """See :func:`synthesize`."""
-        return synthesize(self, width, height, seed=seed, sweeps=sweeps, progress=progress)
+    def synthesize(self, width: int, height: int, *, seed: int | np.random.Generator = 0,
+                   sweeps: int = SWEEPS, progress: Callable[[float, str], object] | None = None
+                   ) -> np.ndarray:
+        """A periodic (height, width, C) float32 image from this model alone, any size (a
+        label-map model: int32 (height, width) labels): :func:`relax`, after the checks.
+
+        ``sweeps``: the most relaxation sweeps; memory and time are checked against the
+        budgets before any work.
+        """
+        width, height = validation.size(width, height)
+        sweeps = resolve(PARAMS, {"sweeps": sweeps}, "Model.synthesize")["sweeps"]
+        types = max(len(c.offsets) for c in self.channels)
+        budget.admit(f"clique model synthesis of {width} x {height}",
+                     peak=width * height * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_AND_TYPE * 2
+                                            * types),
+                     seconds=synthesis_cost(len(self.channels), types, width, height, sweeps)
+                     * budget.machine_factor())
+        rng, report = budget.start(seed, progress)
+        return relax(self, width, height, rng, report, sweeps)
 
 
 def select(candidates: list[Term], exemplar_pairs: np.ndarray, singleton: np.ndarray,
@@ -540,15 +555,13 @@ def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
     distance; ``max_cliques``: most types per channel; ``levels``: grey levels per component.
     """
     x = validation.image(exemplar)
-    checked = validation.params(PARAMS, {"max_offset": max_offset, "threshold": threshold,
-                                         "max_cliques": max_cliques, "levels": levels},
-                                "cooccurrence.fit")
+    checked = resolve(PARAMS, {"max_offset": max_offset, "threshold": threshold,
+                               "max_cliques": max_cliques, "levels": levels}, "cooccurrence.fit")
     max_offset, threshold = checked["max_offset"], checked["threshold"]
     max_cliques, levels = checked["max_cliques"], checked["levels"]
     selection_size = validation.whole(selection_size, "selection_size", 8, validation.MAX_SIDE)
     selection_sweeps = validation.whole(selection_sweeps, "selection_sweeps", 1, 1000)
-    rng = _rng(seed)
-    report = progress if isinstance(progress, Progress) else Progress(progress)
+    rng, report = budget.start(seed, progress)
     m = reach(max_offset, x.shape)
     report(0.0, "colour statistics")
     rows = anchor_rows(x.shape, m, rng)
@@ -586,8 +599,7 @@ def fit_labels(labels: np.ndarray, classes: int, *, seed: int | np.random.Genera
                max_cliques: int = MAX_CLIQUES, selection_size: int = SELECTION_SIZE,
                progress: Callable[[float, str], object] | None = None) -> Model:
     """The clique model of a label map (int (H, W), labels 0..classes-1): the label texture."""
-    rng = np.random.default_rng(seed)
-    report = progress if isinstance(progress, Progress) else Progress(progress)
+    rng, report = budget.start(seed, progress)
     levels = label_levels(classes)
     channel = fit_channel(levels[labels], levels, 0.0, classes - 1.0, rng, max_offset,
                           threshold, max_cliques, selection_size, SELECTION_SWEEPS,
@@ -622,28 +634,16 @@ def synthesize_channel(channel: ChannelModel, shape, rng: np.random.Generator,
     return relax.image
 
 
-def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.Generator = 0,
-               sweeps: int = SWEEPS,
-               progress: Callable[[float, str], object] | None = None,
-               start: np.ndarray | None = None) -> np.ndarray:
-    """A periodic (height, width, C) float32 image from ``model`` alone, any size.
+def relax(model: Model, width: int, height: int, rng: np.random.Generator,
+          report: Progress, sweeps: int = SWEEPS, start: np.ndarray | None = None
+          ) -> np.ndarray:
+    """A periodic (height, width, C) float32 image from ``model`` alone, by stochastic
+    relaxation of each channel (:func:`synthesize_channel`); arguments as checked by
+    :meth:`Model.synthesize`, the public entry.
 
     A label-map model gives int32 (height, width) labels instead. ``start``: an image
     (height, width, C) to relax from instead of noise (a coarser synthesis, upsampled).
     """
-    if not isinstance(model, Model):
-        raise ValueError(f"model must be a texsynth.cooccurrence.Model (from fit or Model.load), "
-                         f"got {type(model).__name__}")
-    width, height = validation.size(width, height)
-    sweeps = validation.params(PARAMS, {"sweeps": sweeps}, "cooccurrence.synthesize")["sweeps"]
-    validation.check_memory(width * height * (BYTES_PER_PIXEL + BYTES_PER_PIXEL_AND_TYPE
-                                              * 2 * max(len(c.offsets) for c in model.channels)),
-                            f"clique model synthesis of {width} x {height}")
-    budget.check_time(synthesis_cost(
-        len(model.channels), max(len(c.offsets) for c in model.channels), width, height, sweeps)
-        * budget.machine_factor(), f"clique model synthesis of {width} x {height}")
-    rng = _rng(seed)
-    report = progress if isinstance(progress, Progress) else Progress(progress)
     out = []
     pca = ColorPCA(np.asarray(model.mean, np.float32), np.asarray(model.basis, np.float32))
     initial = None if start is None else pca.forward(np.asarray(start, np.float32))
@@ -665,13 +665,6 @@ def synthesize(model: Model, width: int, height: int, *, seed: int | np.random.G
         return out[0]
     image = pca.inverse(np.stack(out, axis=2))
     return np.clip(image, model.low, model.high).astype(np.float32)
-
-
-def _rng(seed) -> np.random.Generator:
-    """A generator from a seed (a non-negative whole number) or the generator itself."""
-    if isinstance(seed, np.random.Generator):
-        return seed
-    return np.random.default_rng(validation.seed(seed))
 
 
 #: Clique types a natural texture's selection typically ends with (the cost model's).
