@@ -64,10 +64,9 @@ from .jobs import (
     parse_size,
     preflight,
     run_job,
-    version,
 )
 
-__all__ = ["version", "OPERATIONS", "Defaults", "Job", "Summary", "plan", "forecast", "run",
+__all__ = ["OPERATIONS", "Defaults", "Job", "Summary", "plan", "forecast", "run",
            "run_job", "is_done"]
 
 @dataclass(frozen=True)

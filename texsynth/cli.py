@@ -52,6 +52,7 @@ from .jobs import (
     parse_size,
     preflight,
     read_input,
+    version,
     write_outputs,
 )
 from .material.pipeline import STEPS
@@ -442,7 +443,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="texsynth", formatter_class=formatter, epilog=_EPILOG,
         description="Seamless (tileable) textures from photos: example-based texture synthesis.")
-    parser.add_argument("--version", action="version", version=f"texsynth {batch_module.version()}")
+    parser.add_argument("--version", action="version", version=f"texsynth {version()}")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress output")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
