@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from texsynth import batch, cli, jobs
-from texsynth.io import read_png, write_exr, write_png
+from texsynth.io import files, read_png, write_exr, write_png
 
 from _images import ramp_photo
 
@@ -111,7 +111,7 @@ def test_a_write_that_fails_midway_leaves_no_output_at_all(tmp_path, capsys, mon
             raise OSError(28, "No space left on device")
         write_png(path, image, bits=bits)
 
-    monkeypatch.setattr(jobs, "write_image", full_disk)
+    monkeypatch.setattr(files, "write_image", full_disk)  # io.write_images' writer
     code, _, err = _run(capsys, "tile", tmp_path / "photo.png", "-o", tmp_path / "out" / "o.png",
                         "--maps", tmp_path / "normal.png")
     assert code == 4 and len(calls) == 2

@@ -40,13 +40,14 @@ from .blocks.resample import resample
 from .io.files import (
     TEMP_PREFIX,
     ImageReadError,
+    ImageWriteError,
     encode,
     image_size,
     is_linear,
     output_format,
     png_bits,
     read_photo,
-    write_image,
+    write_images,
 )
 from .material import pipeline as material
 from .plane import focal_px_from_file
@@ -427,29 +428,15 @@ def execute(job: Job, progress: Callable[[float, str], object] | None = None) ->
 
 
 def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
-    """Write every ``(path, image)`` to a temporary file beside it, then rename all of them:
-    a failure (a full disk, a folder gone) removes the temporary files and leaves the old
-    files as they were. :class:`OutputError` naming the file."""
-    temps = []
+    """Every ``(path, image)`` written at once (``io.write_images``: temporary files beside
+    them, then renamed; a failure leaves the old files as they were). :class:`OutputError`
+    naming the file."""
     try:
-        for path, image in files:
-            path = Path(path)
-            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
-                                        dir=path.parent)
-            os.close(fd)
-            temps.append(temp)
-            try:
-                write_image(temp, image, bits=bits, atomic=False)  # this temp is renamed
-            except (OSError, ValueError) as error:
-                reason = getattr(error, "strerror", None) or error
-                raise OutputError(f"{path}: cannot write ({reason})") from None
-        for (path, _), temp in zip(files, temps, strict=True):
-            os.replace(temp, path)
+        write_images(files, bits)
+    except ImageWriteError as error:
+        raise OutputError(str(error)) from None
     except OSError as error:
         raise OutputError(f"cannot write ({error.strerror or error})") from None
-    finally:
-        for temp in temps:
-            Path(temp).unlink(missing_ok=True)
 
 
 # --- the material operation (issue 43): texsynth.material's pipeline over one photo ---------
@@ -593,6 +580,7 @@ def run_job(job: Job, job_key: str | None = None) -> str:
     Examples
     --------
     >>> import tempfile
+    >>> from texsynth.io import write_image
     >>> folder = Path(tempfile.mkdtemp())
     >>> write_image(folder / "sand.png", np.random.default_rng(0).random((32, 32, 3)))
     >>> job = Job(photo=str(folder / "sand.png"), outputs=(str(folder / "out.png"),),

@@ -19,7 +19,7 @@ from ..progress import Progress
 from .histogram import TargetHistogram, match_many
 from .parallel import ranges, run, small_product
 
-__all__ = ["ColorPCA", "sliced_transfer", "sliced_transfer_rows", "srgb_to_linear",
+__all__ = ["ColorPCA", "luminance", "sliced_transfer", "sliced_transfer_rows", "srgb_to_linear",
            "linear_to_srgb"]
 
 #: Target colours :func:`sliced_transfer` sorts per projection (a regular sample of ``y``).
@@ -120,6 +120,19 @@ def _turn(x: np.ndarray, m: np.ndarray) -> None:
             rows[...] = out
 
     run(part, ranges(x.shape[1]))
+
+
+def luminance(a: np.ndarray) -> np.ndarray:
+    """Rec. 709 luminance Y (float64, H x W) of an (H, W, C) array; C < 3: its first channel.
+
+    Examples
+    --------
+    >>> float(luminance(np.ones((1, 1, 3), np.float32))[0, 0])
+    1.0
+    """
+    if a.shape[2] >= 3:
+        return a[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+    return a[:, :, 0].astype(np.float64)
 
 
 def srgb_to_linear(v) -> np.ndarray:

@@ -15,6 +15,7 @@ from .files import (
     SUFFIXES,
     TEMP_PREFIX,
     ImageReadError,
+    ImageWriteError,
     check_finite,
     encode,
     image_size,
@@ -23,10 +24,12 @@ from .files import (
     png_bits,
     read_photo,
     write_image,
+    write_images,
 )
 from .orientation import exif_orientation, orient
 from .png import read_png, write_png
 
-__all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "write_image",
-           "output_format", "png_bits", "is_linear", "encode", "SUFFIXES", "TEMP_PREFIX",
-           "exif_orientation", "orient", "read_exr", "write_exr", "read_png", "write_png"]
+__all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "ImageWriteError",
+           "write_image", "write_images", "output_format", "png_bits", "is_linear", "encode",
+           "SUFFIXES", "TEMP_PREFIX", "exif_orientation", "orient", "read_exr", "write_exr",
+           "read_png", "write_png"]

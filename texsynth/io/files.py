@@ -29,8 +29,9 @@ from ..blocks.color import linear_to_srgb, srgb_to_linear
 from . import exr, png, tiff
 from .orientation import TURNED, exif_orientation, orient
 
-__all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "write_image",
-           "output_format", "png_bits", "is_linear", "encode", "TEMP_PREFIX", "SUFFIXES"]
+__all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "ImageWriteError",
+           "write_image", "write_images", "output_format", "png_bits", "is_linear", "encode",
+           "TEMP_PREFIX", "SUFFIXES"]
 
 #: Temporary files of :func:`write_image` start with this (a batch removes stale ones).
 TEMP_PREFIX = ".texsynth-tmp-"
@@ -50,6 +51,11 @@ class ImageReadError(ValueError):
     reads, NaN or infinite values. A ``ValueError``, so a caller that knows only that still
     reports it; a command maps it to its exit code without matching messages.
     """
+
+
+class ImageWriteError(OSError):
+    """A file of :func:`write_images` that could not be written; the message names the file
+    and why (an ``OSError``, as the failures it stands for)."""
 
 
 def read_photo(path) -> np.ndarray:
@@ -295,7 +301,7 @@ def output_format(path) -> str:
 def write_image(path, image, bits: int = 8, *, atomic: bool = True) -> None:
     """Write ``image`` (H, W, C), C in 1, 3, 4, to ``path`` atomically in the format of its
     suffix (:func:`output_format`); ``atomic=False`` writes ``path`` itself, for a caller that
-    writes to a temporary file of its own and renames it (``jobs.write_outputs``).
+    writes to a temporary file of its own and renames it (:func:`write_images`).
 
     - PNG and TIFF: values in [0, 1] (clipped), ``bits`` 8 or 16 per sample, alpha kept;
     - JPEG: 8 bits whatever ``bits`` says, quality 95, no chroma subsampling (a texture's
@@ -332,6 +338,43 @@ def write_image(path, image, bits: int = 8, *, atomic: bool = True) -> None:
     except BaseException:
         Path(temp).unlink(missing_ok=True)
         raise
+
+
+def write_images(files, bits: int = 8) -> None:
+    """Every ``(path, image)`` of ``files`` written to a temporary file beside its path, then
+    all renamed over their paths: a failure (a full disk, a folder gone) removes the temporary
+    files and leaves the files that were there as they were.
+
+    Raises :class:`ImageWriteError` naming the file whose image could not be written (and
+    why), or the ``OSError`` of a temporary file or a rename.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> grey = np.full((4, 6), 0.5, np.float32)
+    >>> write_images([(folder / "a.png", grey), (folder / "b.exr", grey)])
+    >>> sorted(p.name for p in folder.iterdir())
+    ['a.png', 'b.exr']
+    """
+    temps = []
+    try:
+        for path, image in files:
+            path = Path(path)
+            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
+                                        dir=path.parent)
+            os.close(fd)
+            temps.append(temp)
+            try:
+                write_image(temp, image, bits=bits, atomic=False)  # this temp is renamed
+            except (OSError, ValueError) as error:
+                reason = getattr(error, "strerror", None) or error
+                raise ImageWriteError(f"{path}: cannot write ({reason})") from None
+        for (path, _), temp in zip(files, temps, strict=True):
+            os.replace(temp, path)
+    finally:
+        for temp in temps:
+            Path(temp).unlink(missing_ok=True)
 
 
 def _write(kind: str, path, a: np.ndarray, bits: int) -> None:

@@ -36,6 +36,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import validation
+from ..blocks.color import luminance
 from ..progress import Progress
 
 __all__ = ["delight", "light_field"]
@@ -58,12 +59,6 @@ def _basis(n: int, order: int, step: int = 1) -> np.ndarray:
     return np.cos(np.pi * np.outer(x, np.arange(order + 1)) / n)
 
 
-def _luminance(a: np.ndarray) -> np.ndarray:
-    if a.shape[2] >= 3:
-        return a[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
-    return a[:, :, 0].astype(np.float64)
-
-
 def light_field(photo: np.ndarray, *, order: int = ORDER) -> np.ndarray:
     """The light's log-luminance field log E (H, W) float32 of ``photo`` (H, W, C), zero mean:
     :func:`delight` divides by its exponential. ``order``: the light's highest radial order K.
@@ -83,7 +78,7 @@ def light_field(photo: np.ndarray, *, order: int = ORDER) -> np.ndarray:
     f = 1
     while (h // f) * (w // f) > SAMPLE_PIXELS:
         f += 1
-    log_y = np.log(np.maximum(_luminance(a[::f, ::f]), FLOOR)).ravel()
+    log_y = np.log(np.maximum(luminance(a[::f, ::f]), FLOOR)).ravel()
     by, bx = _basis(h, 2 * k, f), _basis(w, 2 * k, f)
     design = (by[:, None, :, None] * bx[None, :, None, :]).reshape(len(log_y), -1)
     weights = np.ones_like(log_y)

@@ -42,11 +42,10 @@ import scipy.sparse as sparse
 import scipy.sparse.linalg as sparse_linalg
 from scipy.ndimage import binary_dilation, uniform_filter
 
-from .. import validation
+from .. import budget, validation
 from ..blocks.period import texel_size
 from ..blocks.poisson import guidance
 from ..blocks.quilting import Search
-from ..progress import Progress
 
 __all__ = ["heal", "check_mask"]
 
@@ -138,9 +137,7 @@ def heal(photo, mask, *, seed: int = 0, patch: int | None = None,
     given = np.asarray(photo)
     a = validation.image(given, what="photo", channels=None)
     m = check_mask(mask, a.shape)
-    seed = validation.seed(seed)
-    report = Progress(progress)
-    rng = np.random.default_rng(seed)
+    rng, report = budget.start(seed, progress)
     rows, cols = _window(m)
     region, hole = a[rows, cols], m[rows, cols]
     h, w = hole.shape

@@ -41,6 +41,7 @@ import scipy.fft as sfft
 from scipy.ndimage import gaussian_filter
 
 from .. import validation
+from ..blocks.color import luminance
 from ..blocks.period import texel_size
 from ..blocks.periodic import periodic_component
 
@@ -78,12 +79,6 @@ def _frequencies(h: int, w: int) -> tuple[np.ndarray, np.ndarray]:
     return sfft.fftfreq(h)[:, None], sfft.rfftfreq(w)[None, :]
 
 
-def _luminance(a: np.ndarray) -> np.ndarray:
-    if a.shape[2] >= 3:
-        return a[:, :, :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
-    return a[:, :, 0].astype(np.float64)
-
-
 def height_from_colour(colour, *, alpha: float = ALPHA, low: float | None = None,
                        wrap: bool = True) -> np.ndarray:
     """The relative height (H, W) float64, zero mean, of ``colour`` (H, W, C): its luminance's
@@ -99,7 +94,7 @@ def height_from_colour(colour, *, alpha: float = ALPHA, low: float | None = None
     True
     """
     a = validation.image(colour, what="colour", channels=None)
-    y = _luminance(a)
+    y = luminance(a)
     if not wrap:
         y = periodic_component(y)
     h, w = y.shape
@@ -206,7 +201,7 @@ def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA,
     texel = texel_size(a[:, :, :3] if a.shape[2] >= 3 else a[:, :, :1])
     z = height_from_colour(a, alpha=alpha, low=LOW_TEXELS * texel if low is None else low,
                            wrap=wrap)
-    y = gaussian_filter(_luminance(a), 1.0, mode="wrap" if wrap else "nearest")
+    y = gaussian_filter(luminance(a), 1.0, mode="wrap" if wrap else "nearest")
     slope = float(np.clip(strength * _rms_gradient(y, wrap), MIN_SLOPE, MAX_SLOPE))
     normal = normal_from_height(z, slope=slope)
     # The height in pixels at the normal's strength: its slopes are the normal's.

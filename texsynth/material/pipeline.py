@@ -27,8 +27,6 @@ bits, and the :class:`Material` records one line per step saying what it did.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import api, budget, tileable, validation
-from ..io import TEMP_PREFIX, encode, write_image
+from ..io import encode, write_images
 from ..plane import estimate_plane, from_rectangle, rectify, verdict
 from ..plane.rectify import RECTIFY_SECONDS_PER_SAMPLE
 from ..progress import Progress
@@ -153,8 +151,9 @@ def check(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None 
             api.check(shape, *size, method=method or METHOD, seed=seed)
     seconds, peak = predict(shape, size=size, steps=steps, method=method, masked=masked)
     what = f"making a material of the {shape[1]} x {shape[0]} photo"
-    validation.check_memory(peak, what, "a smaller --size, or a smaller photo")
-    budget.check_time(seconds, what, "try a smaller size")
+    budget.admit(what, peak=peak, seconds=seconds,
+                 memory_advice="a smaller --size, or a smaller photo",
+                 time_advice="try a smaller size")
     return seconds, peak
 
 
@@ -399,18 +398,6 @@ def write_material(material: Material, folder, stem: str, *, bits: int = 8,
         raise FileExistsError(f"{there[0]} exists; nothing was written (choose another folder "
                               "or stem)")
     Path(folder).mkdir(parents=True, exist_ok=True)
-    temps = []
-    try:
-        for path, image in files:
-            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
-                                        dir=path.parent)
-            os.close(fd)
-            temps.append(temp)
-            write_image(temp, image, bits=bits)
-        for (path, _), temp in zip(files, temps, strict=True):
-            os.replace(temp, path)
-    finally:
-        for temp in temps:
-            Path(temp).unlink(missing_ok=True)
+    write_images(files, bits)
     return [p for p, _ in files]
 

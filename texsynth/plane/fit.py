@@ -91,7 +91,7 @@ from .spectra import (
     texture_mask,
 )
 
-__all__ = ["PlaneEstimate", "estimate_plane", "ESTIMATE_METHODS"]
+__all__ = ["PlaneEstimate", "estimate_plane", "check_focal", "ESTIMATE_METHODS"]
 
 #: ``method`` values of :func:`estimate_plane`.
 ESTIMATE_METHODS = ("auto", "isotropy")
@@ -431,6 +431,23 @@ def _fit_unknown_focal(crit: Criterion, fine: Spectra, f_ref: float, v_spaced=No
                 math.hypot(rel_v, rel_s), spread=np.diag([var_slant, cov_v[1, 1]]), horizon=v)
 
 
+def check_focal(focal_px) -> float | None:
+    """``focal_px`` (pixels) as a positive float, None as None, else ``ValueError``: the one
+    check of a given focal length (:func:`estimate_plane`, ``rectangle.from_rectangle``).
+
+    Examples
+    --------
+    >>> check_focal(500), check_focal(None)
+    (500.0, None)
+    """
+    if focal_px is None:
+        return None
+    focal_px = validation.finite(focal_px, "focal_px (pixels)")
+    if focal_px <= 0:
+        raise ValueError(f"focal_px must be a positive number of pixels, got {focal_px!r}")
+    return focal_px
+
+
 def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -> PlaneEstimate:
     """Slant and tilt of the textured plane filling ``image`` (Forsyth & Ponce, sec. 11.4.1).
 
@@ -472,10 +489,7 @@ def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -
     """
     if method not in ESTIMATE_METHODS:
         raise ValueError(f"method must be one of {', '.join(ESTIMATE_METHODS)}, got {method!r}")
-    if focal_px is not None:
-        focal_px = validation.finite(focal_px, "focal_px (pixels)")
-        if focal_px <= 0:
-            raise ValueError(f"focal_px must be a positive number of pixels, got {focal_px!r}")
+    focal_px = check_focal(focal_px)
     lum = luminance(image)
     size = (lum.shape[1], lum.shape[0])
     small, k = downsample(lum)

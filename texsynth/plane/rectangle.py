@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from .. import validation
-from .fit import PlaneEstimate, plane_estimate
+from .fit import PlaneEstimate, check_focal, plane_estimate
 from .geometry import angles_from_normal
 
 __all__ = ["from_rectangle"]
@@ -129,10 +129,7 @@ def from_rectangle(corners, shape, focal_px: float | None = None) -> PlaneEstima
     if not (isinstance(shape, (tuple, list)) and len(shape) >= 2):
         raise ValueError(f"shape must be (height, width) in pixels, got {shape!r}")
     w, h = validation.size(int(shape[1]), int(shape[0]))
-    if focal_px is not None:
-        focal_px = validation.finite(focal_px, "focal_px (pixels)")
-        if focal_px <= 0:
-            raise ValueError(f"focal_px must be a positive number of pixels, got {focal_px!r}")
+    focal_px = check_focal(focal_px)
     side = float(max(h, w))
     points = _homogeneous(corners, (h, w))
     slant, tilt, focal = _plane(points, side, focal_px)
