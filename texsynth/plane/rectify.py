@@ -157,10 +157,10 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     minify = float(np.max(unit) / step * max(1.0, (1.0 - v @ back.reshape(-1, 2).T).max() ** 2))
     ss = int(np.clip(math.ceil(minify), 1, 4))
     what = f"rectifying to {out_w} x {out_h}"
-    budget.admit(what, peak=out_w * out_h * (8 * pixels.shape[2] + 8 * 7),
-                 seconds=RECTIFY_SECONDS_PER_SAMPLE * ss ** 2 * out_w * out_h
-                 * (pixels.shape[2] + 2) * budget.machine_factor(),
-                 memory_advice="ask for a smaller size")
+    validation.check_memory(out_w * out_h * (8 * pixels.shape[2] + 8 * 7), what,
+                            "ask for a smaller size")
+    budget.check_time(RECTIFY_SECONDS_PER_SAMPLE * ss ** 2 * out_w * out_h
+                      * (pixels.shape[2] + 2) * budget.machine_factor(), what)
     out = np.zeros((out_h, out_w, pixels.shape[2]), np.float64)
     for sy in range(ss):
         for sx in range(ss):
