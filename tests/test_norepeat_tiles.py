@@ -47,7 +47,7 @@ def wall():
 @pytest.fixture(scope="module")
 def tiles(wall):
     before = wall.copy()
-    made = wang_tiles(wall, tile=72, gutter=4, seed=3)
+    made = wang_tiles(wall, tile=72, colours=2, gutter=4, seed=3)
     assert np.array_equal(wall, before)  # the input is untouched
     return made
 
@@ -133,9 +133,9 @@ def test_every_tile_has_a_middle_of_its_own(tiles):
 
 
 def test_same_seed_same_tiles_and_another_seed_others(wall, tiles):
-    again = wang_tiles(wall, tile=72, gutter=4, seed=3)
+    again = wang_tiles(wall, tile=72, gutter=4, colours=2, seed=3)
     assert np.array_equal(again.atlas, tiles.atlas)
-    other = wang_tiles(wall, tile=72, gutter=4, seed=4)
+    other = wang_tiles(wall, tile=72, gutter=4, colours=2, seed=4)
     assert not np.array_equal(other.centres, tiles.centres)
     a = wang_tiling(tiles, 144, 144, cells=2, seed=0)
     assert np.array_equal(a, wang_tiling(tiles, 144, 144, cells=2, seed=0))
@@ -193,7 +193,7 @@ def test_cancel_returns_nothing(wall):
 def test_the_memory_prediction_covers_the_peak():
     photo = smooth_noise((256, 320), seed=2)
     tracemalloc.start()
-    wang_tiles(photo, tile=128, gutter=8)
+    wang_tiles(photo, tile=128, colours=2, gutter=8)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     predicted = predict_tiles_memory(photo.shape, 128, 2, 8)

@@ -34,6 +34,7 @@ import bpy
 
 from ...texsynth.norepeat import GRID_SCALE
 from ...texsynth.norepeat.hex import CONTRAST, SHARPNESS
+from ...texsynth.norepeat.tiles import COLOURS
 from .. import pixels, source
 from ..job import JobOperator
 from . import blend, hex, tiles
@@ -69,7 +70,7 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
                                 description="Picks the random offsets (Tile Set: the tiles "
                                 "and the edge colours)")
     colours: bpy.props.IntProperty(
-        name="Edge Colours", default=2, min=2, max=4, options={"SKIP_SAVE"},
+        name="Edge Colours", default=COLOURS, min=2, max=4, options={"SKIP_SAVE"},
         description="Tile Set: colours per edge direction; colours^4 tiles (more: less "
         "repetition, a larger atlas and a longer precomputation)")
     rotation: bpy.props.FloatProperty(

@@ -30,7 +30,7 @@ import numpy as np
 
 from ... import texsynth
 from ...texsynth.norepeat import predict_tiles_memory, wang_tiles
-from ...texsynth.norepeat.tiles import MIN_TILE, default_tile
+from ...texsynth.norepeat.tiles import COLOURS, MIN_TILE, default_tile
 from .. import pixels
 from ..job import Job
 from .maps import check_opaque
@@ -76,7 +76,7 @@ def check(image, maps, colours):
     texsynth.validation.check_memory(need, "Break Repetition (Tile Set)", "use smaller images")
 
 
-def precompute(maps, colours=2, seed=0, progress=None):
+def precompute(maps, colours=COLOURS, seed=0, progress=None):
     """The Wang tiles of ``maps[0]`` (H, W, C) and every map's atlas (the followers' by the
     tiles' position map): ``(tiles, atlases)``, numpy only (the job's work)."""
     tiles = wang_tiles(maps[0], colours=colours, gutter=GUTTER, seed=seed, progress=progress)
