@@ -70,7 +70,7 @@ def check(image, maps, colours):
                     if default_tile((s, s), colours, GUTTER) >= MIN_TILE)
         raise ValueError(f"Image '{image.name}' is {width} x {height} pixels; Tile Set needs "
                          f"at least {side} x {side}")
-    side = colours ** 2 * (min(width, height) // 2 + 2 * GUTTER)
+    side = colours ** 2 * (default_tile((height, width), colours, GUTTER) + 2 * GUTTER)
     need = predict_tiles_memory((height, width, 3), colours=colours, gutter=GUTTER) \
         + maps * side * side * 16 * 2.0
     texsynth.validation.check_memory(need, "Break Repetition (Tile Set)", "use smaller images")
