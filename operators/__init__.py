@@ -12,8 +12,8 @@ Read in this order:
   (``texsynth.estimate_plane``, ``texsynth.align_camera``, ``texsynth.rectify``),
   ``tileable.py`` (``texsynth.make_tileable``: the photo itself made to tile),
   ``photo_material.py`` (``texsynth.photo_to_material``: a photo to a new, wired material),
-  ``norepeat.py`` (``texsynth.break_repetition``: never repeating at render time; its node
-  groups in ``norepeat_nodes.py``, the Tile Set mode's in ``norepeat_tileset.py``);
+  ``norepeat/`` (``texsynth.break_repetition``: never repeating at render time; a wing of
+  its own, one module per mode, mirroring the core's ``texsynth/norepeat/``);
 * ``panels.py``: every panel;
 * helpers: ``source.py`` (which image and node), ``pixels.py`` (Blender pixels to arrays and
   back), ``output.py`` (the new image datablock or file), ``nodes.py`` (the new node).

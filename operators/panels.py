@@ -199,7 +199,7 @@ class TEXSYNTH_PT_norepeat(SidebarPanel, bpy.types.Panel):
             return
         layout.label(text=norepeat.HINT, icon="INFO")
         row = layout.row(align=True)
-        for mode, label, _ in norepeat.MODES:
+        for mode, label, _ in (module.ITEM for module in norepeat.MODES.values()):
             row.operator("texsynth.break_repetition", text=label, icon="MOD_ARRAY").mode = mode
 
 

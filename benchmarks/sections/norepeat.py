@@ -23,6 +23,7 @@ from texsynth.norepeat import (
     rotation_symmetry,
     wang_tiles,
 )
+from texsynth.norepeat.tiles import COLOURS
 
 ORDER = 80
 TITLE = "No repetition (issue 28)"
@@ -34,6 +35,9 @@ PHOTOS = (("torcs-data/gravel_pebbles.png", "stochastic"),
           ("0ad-data/granite_setts_grass.png", "regular"))
 SIDE = 256  # the photo box-averaged to this side for the renders
 SIZE, SAMPLES, TILES, GRAZING_TILES = 512, 16, 8, 16
+#: The peak's bound: at most 0.3, or the photo's own peak plus this where the photo itself
+#: repeats (a brick wall's courses: any render of it repeats at the course period by nature).
+OWN_MARGIN = 0.1
 GOALS = {"corr": 0.3, "wasserstein": 0.03, "gradient": (0.85, 1.15), "time": 2.0,
          "anisotropy": (0.75, 1.33)}
 #: The operator's modes, in the table's and the picture's order.
@@ -121,7 +125,8 @@ def run(ctx) -> str:
             m = renders.measures(plain, after, SIZE // TILES)
             rows.append(f"| {rel} | {kind} | {label} | {fmt(m['corr_plain'], 2)} -> "
                         f"{fmt(m['corr_after'], 2)} | {fmt(m['peak_plain'], 2)} -> "
-                        f"{fmt(m['peak_after'], 2)} ({fmt(own, 2)}) | "
+                        f"{fmt(m['peak_after'], 2)} ({fmt(own, 2)}; "
+                        f"{fmt(max(GOALS['corr'], own + OWN_MARGIN), 2)}) | "
                         f"{fmt(m['anisotropy_ratio'], 2)} | {fmt(m['wasserstein'], 4)} | "
                         f"{fmt(m['gradient_ratio'], 2)} | {t_plain:.1f} / {t_after:.1f} "
                         f"({t_after / t_plain:.2f}x) |")
@@ -154,7 +159,8 @@ def run(ctx) -> str:
         "(roughness 1, no specular) lit by a sun 45 degrees high, Standard view; the photo "
         "repeated by a Mapping node in front of the Image Texture node, then "
         "`texsynth.break_repetition` on that node, once per mode (default settings, seed 0; "
-        "Tile Set: 2 edge colours, its Scale from the tile side so texels keep their size; "
+        f"Tile Set: {COLOURS} edge colours, its Scale from the tile side so texels keep their "
+        "size; "
         "Hex Tiling: the photo's own turns, `texsynth.norepeat.rotation_symmetry`: "
         f"{', '.join(sorted(set(turns)))}). "
         "Correlation: the rendered luminance's correlation coefficient with itself "
@@ -162,8 +168,9 @@ def run(ctx) -> str:
         "rendered luminance autocorrelation's largest peak at EVERY shift of 24 px or more "
         "(a repeat at a Tile Set's cell, about half a photo tile, shows here and not at the tile), "
         "plain -> after, and in brackets the photo's own at the same distance on the surface "
-        f"(goal: at most {GOALS['corr']}, where the photo's own is below that; a brick wall's "
-        "courses are its own repeat). Anisotropy: the after render's structure-tensor "
+        f"and the goal: at most {GOALS['corr']}, or the photo's own plus {OWN_MARGIN} where "
+        "that is higher (a photo that repeats itself, a brick wall's courses, repeats so in "
+        "any render of it). Anisotropy: the after render's structure-tensor "
         "anisotropy (`texsynth.metrics.anisotropy`) over the plain one's (goal "
         f"{GOALS['anisotropy'][0]}-{GOALS['anisotropy'][1]}: the photo's direction kept). "
         "W1: the worst channel's Wasserstein distance between the two renders' pixel values "
@@ -174,7 +181,7 @@ def run(ctx) -> str:
         "`benchmarks/norepeat_renders.py` builds the scene.",
         "",
         "| photo | kind | mode | correlation at the period, plain -> after | peak at >= 24 px, "
-        "plain -> after (photo) | anisotropy after / plain | W1 | gradient | "
+        "plain -> after (photo; goal) | anisotropy after / plain | W1 | gradient | "
         "render s plain / after |",
         "|---|---|---|---|---|---|---|---|---|",
         *rows,
@@ -187,9 +194,9 @@ def run(ctx) -> str:
         f"{GRAZING_TILES} x {GRAZING_TILES} tiles on the plane, 50 mm, the frame's middle).",
         "",
         "The precomputations at the photos' full size (`texsynth.norepeat.gaussianize`: RGB "
-        "channels, 4096-entry tables; `texsynth.norepeat.wang_tiles`: 2 colours, 16 tiles, "
-        "gutter 8): seconds (one run, under tracemalloc), tracemalloc's peak and the "
-        "prediction that the operator checks against the memory budget.",
+        f"channels, 4096-entry tables; `texsynth.norepeat.wang_tiles`: {COLOURS} colours, "
+        f"{COLOURS ** 4} tiles, gutter 8): seconds (one run, under tracemalloc), "
+        "tracemalloc's peak and the prediction that the operator checks against the memory budget.",
         "",
         "| photo | size | precomputation | seconds | peak MiB | predicted MiB |",
         "|---|---|---|---|---|---|",

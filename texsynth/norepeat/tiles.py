@@ -31,11 +31,15 @@ position map, which makes the other maps of a material (roughness, normal) into 
   shift of one cell shows the same diamond half the time (rendered 8 x 8, the autocorrelation
   peaked at 0.33-0.53 at one cell); so each tile's middle is its own patch of the photo, as
   Cohen et al. fill a tile's interior from the sample: a ``t`` x ``t`` window placed where
-  it agrees best with the tile on the ring of radii ``INTERIOR`` (times ``t``) around the
-  tile's centre (the quilting patch choice, in phase with the courses as the diamonds are),
-  away from the tile's own content and the other tiles' interiors (``INTERIOR_SPACING``), cut
-  in along the ring by a closed minimum error boundary cut on the ring unrolled (angle,
-  radius); the edges and corners keep their diamonds, so neighbours still match.
+  it agrees best with the tile on the square ring of Chebyshev radii ``INTERIOR`` (times
+  ``t``) around the tile's centre (the quilting patch choice, in phase with the courses as
+  the diamonds are), away from the tile's own diamonds and from the other tiles' interiors
+  (``INTERIOR_SPACING``, halved while the photo has no room for one more), cut in along the
+  ring by a closed minimum error boundary cut on the ring unrolled (angle, radius); a band
+  along every edge keeps its diamond, so neighbours still match. The ring is square and near
+  the edges so that the middle, not the shared diamonds, holds most of the tile (a round
+  ring of radii 0.22-0.44 left the diamonds two thirds of it, and their repeats at whole-cell
+  shifts peaked at 0.27-0.47 even with 3 colours).
 - **Atlas** (the tiles read by a shader, Wei 2004's complete set picked by hashed edges): the
   ``colours**4`` tiles in a ``colours**2`` square grid, each with a ``gutter`` of pixels on
   every side copied from the diamond beyond that edge, what the neighbour shows there (so a
@@ -79,10 +83,14 @@ from ..blocks.quilting import Search, block_means, min_error_path
 from .blend import vertex_offsets
 
 __all__ = ["WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions", "edge_colours",
-           "default_tile", "predict_tiles_memory", "MAX_ATLAS"]
+           "default_tile", "predict_tiles_memory", "MAX_ATLAS", "COLOURS"]
 
 #: Largest atlas side (pixels): 8192 keeps it a texture every GPU takes.
 MAX_ATLAS = 8192
+#: Edge colours per direction by default: 3 (81 tiles). With 2, a shift of whole cells shows the
+#: same diamond on half the edges and the autocorrelation of an 8 x 8 render peaked at
+#: 0.27-0.40 beyond 24 px; with 3 at 0.16-0.28 (the four benchmark photos, numpy tiling).
+COLOURS = 3
 #: Smallest tile side accepted.
 MIN_TILE = 16
 #: The cut's reach from the diagonal, as a fraction of the tile side (along a row or column).
@@ -99,12 +107,14 @@ SEARCH_SIDE = 1024
 #: The tone's weight in the diamonds' search, and its block side (pixels): the SSD of the
 #: block means, each block counted for its pixels, TONE times.
 TONE, TONE_BLOCK = 4.0, 16
-#: The ring (radii as fractions of the tile side) in which a tile's interior patch is cut in:
-#: within it the tile's middle is its own; outside it the diamonds' (the edges' mid-points are
-#: half a tile from the centre).
-INTERIOR = (0.22, 0.44)
-#: A tile's interior window is at least this fraction of the tile from the tile's own content
-#: and from every other interior (Chebyshev distance of the windows' corners).
+#: The square ring (Chebyshev radii as fractions of the tile side) in which a tile's interior
+#: patch is cut in: within it the tile's middle is its own; outside it, a band of at least
+#: 0.05 of the tile along every edge, the diamonds' (the edges are half a tile from the
+#: centre).
+INTERIOR = (0.34, 0.45)
+#: A tile's interior window is at least this fraction of the tile from the tile's own diamonds
+#: and from every other interior (Chebyshev distance of the windows' corners; from the other
+#: interiors halved while no window is that far: the photo has room for about 25).
 INTERIOR_SPACING = 1 / 4
 
 # Tile pixel (i, j) of the triangle of role X reads the photo at c_X + (i, j) + _OFFSET[X],
@@ -154,7 +164,7 @@ class WangTiles:
 
         Examples
         --------
-        >>> tiles = wang_tiles(np.zeros((64, 64)), tile=16, gutter=2)
+        >>> tiles = wang_tiles(np.zeros((64, 64)), tile=16, colours=2, gutter=2)
         >>> [int(v) for v in tiles.slot(1, 0, 1, 0)], tiles.atlas.shape
         ([62, 2], (80, 80, 1))
         """
@@ -162,7 +172,7 @@ class WangTiles:
         return (np.asarray(n) * c + s) * step + g, (np.asarray(w) * c + e) * step + g
 
 
-def default_tile(shape, colours: int = 2, gutter: int = 8) -> int:
+def default_tile(shape, colours: int = COLOURS, gutter: int = 8) -> int:
     """The tile side used when none is given, before the fit to the photo's period: half the
     photo's shorter side (even), at most what keeps the atlas within :data:`MAX_ATLAS` and
     the diamonds and gutters inside the photo.
@@ -342,20 +352,22 @@ def _tile_labels(photo, centres, colours_nesw, t, offset) -> np.ndarray:
 
 
 def _ring(t: int):
-    """The ring's polar samples around the centre of a (t, t) tile: per angle (rows) and
-    radius (columns) the nearest pixel (row, col) arrays, and each tile pixel's angle bin and
-    radius."""
+    """The ring's samples around the centre of a (t, t) tile, square (Chebyshev radii, see
+    ``INTERIOR``): per angle (rows) and radius (columns) the nearest pixel (row, col) arrays,
+    and each tile pixel's angle bin and Chebyshev radius."""
     r0, r1 = INTERIOR[0] * t, INTERIOR[1] * t
-    angles = int(np.ceil(2 * np.pi * r1))
+    angles = int(np.ceil(8 * r1))
     theta = 2 * np.pi * (np.arange(angles) + 0.5) / angles
     radius = np.arange(np.ceil(r0), np.floor(r1) + 1)
+    sin, cos = np.sin(theta), np.cos(theta)
+    reach = np.maximum(np.abs(sin), np.abs(cos))  # a ray's Chebyshev radius per unit length
     c = (t - 1) / 2
-    rows = np.clip(np.rint(c + radius[None, :] * np.sin(theta[:, None])), 0, t - 1).astype(int)
-    cols = np.clip(np.rint(c + radius[None, :] * np.cos(theta[:, None])), 0, t - 1).astype(int)
+    rows = np.clip(np.rint(c + radius[None, :] * (sin / reach)[:, None]), 0, t - 1).astype(int)
+    cols = np.clip(np.rint(c + radius[None, :] * (cos / reach)[:, None]), 0, t - 1).astype(int)
     i, j = np.indices((t, t)) - c
     bins = (np.floor(np.mod(np.arctan2(i, j), 2 * np.pi) / (2 * np.pi) * angles)
             .astype(int) % angles)
-    return rows, cols, radius, bins, np.hypot(i, j)
+    return rows, cols, radius, bins, np.maximum(np.abs(i), np.abs(j))
 
 
 def _interior(placer, a, tile_positions, avoid, rng):
@@ -371,12 +383,25 @@ def _interior(placer, a, tile_positions, avoid, rng):
     else:
         ssd = placer.search.ssd(content, mask)
     ys, xs = np.arange(ssd.shape[0]) * f, np.arange(ssd.shape[1]) * f
-    far = np.ones(ssd.shape, bool)
-    for y, x in avoid:
-        far &= (np.abs(ys[:, None] - y) >= INTERIOR_SPACING * t) \
-            | (np.abs(xs[None, :] - x) >= INTERIOR_SPACING * t)
-    if far.any():
-        ssd = np.where(far, ssd, np.inf)
+
+    def far(corners, spacing):
+        """The candidates at least ``spacing`` tiles (Chebyshev) from every one of
+        ``corners``."""
+        ok = np.ones(ssd.shape, bool)
+        for y, x in corners:
+            ok &= (np.abs(ys[:, None] - y) >= spacing * t) \
+                | (np.abs(xs[None, :] - x) >= spacing * t)
+        return ok
+
+    # the tile's own diamonds always (the window that agrees best is where they came from);
+    # the other interiors as far as the photo has room: the spacing halved until some is
+    own = far(avoid[:4], INTERIOR_SPACING)
+    spacing = INTERIOR_SPACING
+    while spacing * t >= f and not (own & far(avoid[4:], spacing)).any():
+        spacing /= 2
+    allowed = own & far(avoid[4:], spacing) if spacing * t >= f else own
+    if allowed.any():
+        ssd = np.where(allowed, ssd, np.inf)
     near = np.flatnonzero(ssd <= ssd.min() * (1 + TOLERANCE) + 1e-12)
     k = near[rng.integers(len(near))]
     corner = int(ys[k // ssd.shape[1]]), int(xs[k % ssd.shape[1]])
@@ -386,7 +411,7 @@ def _interior(placer, a, tile_positions, avoid, rng):
     return corner, dist <= radius[path][bins]
 
 
-def predict_tiles_memory(shape, tile: int | None = None, colours: int = 2,
+def predict_tiles_memory(shape, tile: int | None = None, colours: int = COLOURS,
                          gutter: int = 8) -> float:
     """Peak bytes of :func:`wang_tiles` on a photo of ``shape`` (H, W[, C]) with tiles of
     ``tile`` pixels (default: 7/8 of :func:`default_tile`, the middle of the range [3/4, 1] of it
@@ -425,7 +450,7 @@ def _sample_step(shape) -> int:
     return f
 
 
-def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int = 8,
+def wang_tiles(photo, *, tile: int | None = None, colours: int = COLOURS, gutter: int = 8,
                seed: int = 0, progress: Callable[[float, str], object] | None = None
                ) -> WangTiles:
     """A complete set of Wang tiles made from ``photo``, in one atlas with gutters.
@@ -460,7 +485,7 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = 2, gutter: int 
     >>> photo = np.random.default_rng(0).random((96, 96, 3)).astype(np.float32)
     >>> tiles = wang_tiles(photo, tile=32, seed=1)
     >>> tiles.atlas.shape, tiles.positions.dtype
-    ((192, 192, 3), dtype('int32'))
+    ((432, 432, 3), dtype('int32'))
     >>> bool((photo[tuple(np.moveaxis(tiles.positions, 2, 0))] == tiles.atlas).all())
     True
     """

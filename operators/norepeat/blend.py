@@ -1,7 +1,10 @@
-"""The node groups of ``texsynth.break_repetition``, built by code.
+"""Break Repetition's **Tiling and Blending** mode (Heitz & Neyret 2018; Deliot & Heitz 2019;
+Burley 2019's truncated Gaussian): the precomputation and the node groups, built by code;
+``texsynth.norepeat.blend`` is the numpy reference.
 
-Tiling and blending (Heitz & Neyret 2018; Deliot & Heitz 2019, 1.2-1.5), as two groups that
-every material shares and one small group per map that holds the map's images:
+``texsynth.norepeat.gaussianize`` precomputes each map's Gaussianised texture, stored as a new
+packed float image (Non-Color), and inverse table, held by an RGB Curves node; a new group per
+map reads them through two groups that every material shares:
 
 * **TexSynth Triangle Grid** (Vector, Scale, Seed -> UV 1-3, Weights): the texture space skewed
   onto a triangle grid (Deliot & Heitz's ``TriangleGrid``), each of the point's three triangle
@@ -28,75 +31,84 @@ mean difference 0.0002 against the same group reading the exact table).
 """
 
 import bpy
+import numpy as np
 
-from ..texsynth.norepeat import GRID_SCALE
+from ... import texsynth
+from ...texsynth.norepeat import GRID_SCALE, gaussianize
+from ...texsynth.norepeat.gaussian import MU
+from ..job import Job
+from .maps import shader_maps
+from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
 
+#: The mode's enum item, the operator settings its redo panel shows and its report's verb.
+ITEM = ("TILING_AND_BLENDING", "Tiling and Blending",
+        "Histogram-preserving blend of randomly offset copies on a triangle grid: for "
+        "stochastic textures (gravel, grass, sand, rock); structured ones show ghosts")
+SETTINGS = ("scale", "seed")
+DONE = "tiled and blended"
 GRID = "TexSynth Triangle Grid"
 BLEND = "TexSynth Variance-Preserving Blend"
-#: Custom property marking a group as built by this module, with the layout's version.
-TAG, VERSION = "texsynth_norepeat", 3
+#: The image made per map: the Gaussianised texture (name suffix; the table is a curve node).
+SUFFIXES = ("tnb_gaussian",)
 
 
-class _Builder:
-    """Nodes of one tree, added left to right, each input a socket or a constant."""
-
-    def __init__(self, tree):
-        self.tree = tree
-        self.x = 0
-
-    def node(self, kind, inputs=(), **settings):
-        node = self.tree.nodes.new(kind)
-        for name, value in settings.items():
-            setattr(node, name, value)
-        node.location = (self.x, 0)
-        self.x += 40
-        for socket, value in zip(node.inputs, inputs, strict=False):
-            if value is None:
-                continue
-            if isinstance(value, bpy.types.NodeSocket):
-                self.tree.links.new(value, socket)
-            else:
-                socket.default_value = value
-        return node
-
-    def math(self, operation, *inputs):
-        return self.node("ShaderNodeMath", inputs, operation=operation).outputs[0]
-
-    def vector(self, operation, *inputs):
-        node = self.node("ShaderNodeVectorMath", inputs, operation=operation)
-        return node.outputs["Value" if operation in ("DOT_PRODUCT", "LENGTH") else "Vector"]
-
-    def scale(self, vector, factor):
-        node = self.node("ShaderNodeVectorMath", (vector,), operation="SCALE")
-        self.tree.links.new(factor, node.inputs["Scale"])
-        return node.outputs["Vector"]
-
-    def separate(self, vector):
-        return self.node("ShaderNodeSeparateXYZ", (vector,)).outputs
-
-    def combine(self, *values):
-        return self.node("ShaderNodeCombineXYZ", values).outputs[0]
+def prepare(op, src, nodes):
+    """The job that Gaussianises every map (``op``: the operator, its settings)."""
+    maps, _ = shader_maps(nodes)
+    return Job(precompute, [values for _, values in maps])
 
 
-def new_group(name, inputs, outputs):
-    """An empty shader group with the named sockets ((name, type, default) / (name, type))."""
-    group = bpy.data.node_groups.new(name, "ShaderNodeTree")
-    group[TAG] = VERSION
-    for socket_name, kind, *default in inputs:
-        socket = group.interface.new_socket(socket_name, in_out="INPUT",
-                                            socket_type=f"NodeSocket{kind}")
-        if default:
-            socket.default_value = default[0]
-    for socket_name, kind in outputs:
-        group.interface.new_socket(socket_name, in_out="OUTPUT", socket_type=f"NodeSocket{kind}")
-    b = _Builder(group)
-    return group, b, b.node("NodeGroupInput").outputs
+def precompute(maps, progress=None):
+    """Each map's ``Gaussianized`` (the job's work: numpy only)."""
+    report = texsynth.Progress(progress)
+    out = []
+    for n, values in enumerate(maps):
+        report(n / len(maps), f"Gaussianising map {n + 1} of {len(maps)}")
+        out.append(gaussianize(values))
+    report(1.0, "Done")
+    return out
 
 
-def finish_group(b, values):
-    out = b.node("NodeGroupOutput")
-    for socket, value in zip(out.inputs, values, strict=False):
-        b.tree.links.new(value, socket)
+def scale(op, result):
+    """The Scale node's value: the operator's Scale (triangle-grid cells per texture tile)."""
+    return op.scale
+
+
+def groups(op, result, nodes):
+    """One new Gaussianised image and group per source node (same order)."""
+    made = []
+    for node, g in zip(nodes, result, strict=True):
+        gaussian, curves = padded(g)
+        image = float_image(f"{stem(node.image)}_{SUFFIXES[0]}", gaussian)
+        made.append(map_group(f"TexSynth T&B {stem(node.image)}", image, curves,
+                              node.interpolation))
+    return made
+
+
+def link(op, tree, made, result):
+    """Nothing to set on the placed nodes: Vector, Scale and Seed are all they take."""
+
+
+def padded(g):
+    """The Gaussian texture centred (``G - 1/2``, as the blend group takes it) as (H, W, 4) RGBA
+    for Blender and the table as curves (N, 3); a grey map's one channel is repeated into all
+    three."""
+    h, w, c = g.gaussian.shape
+    gaussian = np.ones((h, w, 4), np.float32)
+    gaussian[:, :, :3] = (g.gaussian if c == 3 else g.gaussian[:, :, :1]) - MU
+    curves = g.curves()
+    return gaussian, curves if c == 3 else np.repeat(curves, 3, axis=1)
+
+
+def float_image(name, rgba):
+    """A new packed float image (Non-Color) of ``rgba`` (H, W, 4), top row first."""
+    h, w = rgba.shape[:2]
+    image = bpy.data.images.new(name, w, h, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.alpha_mode = "NONE"
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1]).ravel())
+    image.pack()
+    return image
 
 
 def triangle_grid(b, uv, s, seed):
@@ -155,16 +167,6 @@ def _build_blend():
     return group
 
 
-def shared_group(name):
-    """The shared group ``name`` (GRID or BLEND): the file's own if built by this version, else
-    a new one (a group the user renamed or edited under that name is left alone)."""
-    for group in bpy.data.node_groups:
-        if group.name.startswith(name) and group.get(TAG) == VERSION \
-                and group.bl_idname == "ShaderNodeTree":
-            return group
-    return {GRID: _build_grid, BLEND: _build_blend}[name]()
-
-
 def map_group(name, gaussian, curves, interpolation):
     """A new group (Vector, Scale, Seed -> Color, Alpha) tiling and blending one map, from its
     Gaussianised image (centred: ``G - 1/2``) and its inverse table as curves
@@ -172,11 +174,11 @@ def map_group(name, gaussian, curves, interpolation):
     group, b, i = new_group(name, [("Vector", "Vector"), ("Scale", "Float", GRID_SCALE),
                                     ("Seed", "Float", 0.0)],
                              [("Color", "Color"), ("Alpha", "Float")])
-    grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID))
+    grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID, _build_grid))
     for socket in ("Vector", "Scale", "Seed"):
         b.tree.links.new(i[socket], grid.inputs[socket])
     grid.inputs["Texels"].default_value = (*gaussian.size, 1.0)
-    blend = b.node("ShaderNodeGroup", node_tree=shared_group(BLEND))
+    blend = b.node("ShaderNodeGroup", node_tree=shared_group(BLEND, _build_blend))
     for k in range(3):
         read = b.node("ShaderNodeTexImage", (grid.outputs[f"UV {k + 1}"],), image=gaussian,
                       interpolation=interpolation, extension="REPEAT")
@@ -184,9 +186,7 @@ def map_group(name, gaussian, curves, interpolation):
     b.tree.links.new(grid.outputs["Weights"], blend.inputs["Weights"])
     table = b.node("ShaderNodeRGBCurve", (1.0, blend.outputs["Gaussian"]))
     set_curves(table.mapping, curves)
-    opaque = b.node("ShaderNodeValue")
-    opaque.outputs[0].default_value = 1.0
-    finish_group(b, [table.outputs["Color"], opaque.outputs[0]])
+    finish_group(b, [table.outputs["Color"], opaque_alpha(b)])
     return group
 
 

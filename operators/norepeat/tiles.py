@@ -1,5 +1,5 @@
-"""``texsynth.break_repetition``'s Tile Set mode: the precomputation, the atlas images and the
-node groups, built by code.
+"""Break Repetition's **Tile Set** mode: the precomputation, the atlas images and the node
+groups, built by code; ``texsynth.norepeat.tiles`` is the numpy reference.
 
 Wang tiles (Cohen et al. 2003; Wei 2004's complete set picked per cell from hashed edge
 colours): ``texsynth.norepeat.wang_tiles`` cuts ``colours**4`` tiles from the photo into one
@@ -28,14 +28,37 @@ compute White Noise's hash in numpy to compare a render with ``wang_tiling``).
 import bpy
 import numpy as np
 
-from .. import texsynth
-from ..texsynth.norepeat import predict_tiles_memory, wang_tiles
-from ..texsynth.norepeat.tiles import MIN_TILE, default_tile
-from .norepeat_nodes import TAG, VERSION, finish_group, new_group
+from ... import texsynth
+from ...texsynth.norepeat import predict_tiles_memory, wang_tiles
+from ...texsynth.norepeat.tiles import COLOURS, MIN_TILE, default_tile
+from .. import pixels
+from ..job import Job
+from .maps import check_opaque
+from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
 
+#: The mode's enum item, the operator settings its redo panel shows and its report's verb.
+ITEM = ("TILE_SET", "Tile Set",
+        "Wang tiles cut from the photo, picked per cell so that neighbours always match, no "
+        "blending: for regular and structured textures (bricks, pavers, setts)")
+SETTINGS = ("colours", "seed")
+DONE = "set with Wang tiles"
 CELLS = "TexSynth Wang Cells"
 GUTTER = 8  # atlas gutter in pixels (at most a quarter of the tile)
 SUFFIX = "wang_atlas"
+
+
+def prepare(op, src, nodes):
+    """The job that cuts the tiles: every map of one size, opaque; the stored values (no
+    colour conversion: the atlas is read as the source image is)."""
+    w, h = nodes[0].image.size
+    for node in nodes[1:]:
+        if tuple(node.image.size) != (w, h):
+            raise ValueError(f"Image '{node.image.name}' of node '{node.name}' is "
+                             f"{node.image.size[0]} x {node.image.size[1]}, not {w} x {h} "
+                             f"like '{src.image}': Tile Set needs the maps of one size")
+    check(nodes[0].image, len(nodes), op.colours)
+    maps = [check_opaque(node.image, pixels.read_exemplar(node.image)[0]) for node in nodes]
+    return Job(precompute, maps, colours=op.colours, seed=op.seed)
 
 
 def check(image, maps, colours):
@@ -47,13 +70,13 @@ def check(image, maps, colours):
                     if default_tile((s, s), colours, GUTTER) >= MIN_TILE)
         raise ValueError(f"Image '{image.name}' is {width} x {height} pixels; Tile Set needs "
                          f"at least {side} x {side}")
-    side = colours ** 2 * (min(width, height) // 2 + 2 * GUTTER)
+    side = colours ** 2 * (default_tile((height, width), colours, GUTTER) + 2 * GUTTER)
     need = predict_tiles_memory((height, width, 3), colours=colours, gutter=GUTTER) \
         + maps * side * side * 16 * 2.0
     texsynth.validation.check_memory(need, "Break Repetition (Tile Set)", "use smaller images")
 
 
-def precompute(maps, colours=2, seed=0, progress=None):
+def precompute(maps, colours=COLOURS, seed=0, progress=None):
     """The Wang tiles of ``maps[0]`` (H, W, C) and every map's atlas (the followers' by the
     tiles' position map): ``(tiles, atlases)``, numpy only (the job's work)."""
     tiles = wang_tiles(maps[0], colours=colours, gutter=GUTTER, seed=seed, progress=progress)
@@ -61,31 +84,31 @@ def precompute(maps, colours=2, seed=0, progress=None):
     return tiles, atlases
 
 
-def cells_per_tile(result):
-    """The Scale that shows the tiles at the photo's texel size: cells per texture tile along
-    u (the photo's width over the tile side)."""
+def scale(op, result):
+    """The Scale node's value, so that texels keep their size: cells per texture tile along u
+    (the photo's width over the tile side)."""
     tiles, _ = result
     return tiles.photo_shape[1] / tiles.tile
 
 
-def map_groups(result, nodes):
+def groups(op, result, nodes):
     """One new atlas image and group per source node (same order)."""
     tiles, atlases = result
-    return [map_group(f"TexSynth Wang {_stem(node)}", _atlas_image(node.image, atlas), tiles,
+    return [map_group(f"TexSynth Wang {stem(node.image)}", atlas_image(node.image, atlas), tiles,
                       node.interpolation) for node, atlas in zip(nodes, atlases, strict=True)]
 
 
-def _stem(node):
-    return node.image.name.rsplit(".", 1)[0]
+def link(op, tree, made, result):
+    """Nothing to set on the placed nodes: Vector, Scale and Seed are all they take."""
 
 
-def _atlas_image(source, atlas):
+def atlas_image(source, atlas):
     """A new packed image of ``atlas`` (A, A, C, top row first) stored as ``source`` is (byte or
     float, its colour space), so the shader reads the atlas exactly as it read the photo."""
     h, w, c = atlas.shape
     rgba = np.ones((h, w, 4), np.float32)
     rgba[:, :, :3] = atlas[:, :, :3] if c >= 3 else atlas[:, :, :1]
-    image = bpy.data.images.new(f"{source.name.rsplit('.', 1)[0]}_{SUFFIX}", w, h, alpha=True,
+    image = bpy.data.images.new(f"{stem(source)}_{SUFFIX}", w, h, alpha=True,
                                 float_buffer=bool(source.is_float))
     image.colorspace_settings.name = source.colorspace_settings.name
     image.alpha_mode = "NONE"
@@ -122,22 +145,13 @@ def _build_cells():
     return group
 
 
-def cells_group():
-    """The shared TexSynth Wang Cells group: the file's own if built by this version, else new."""
-    for group in bpy.data.node_groups:
-        if group.name.startswith(CELLS) and group.get(TAG) == VERSION \
-                and group.bl_idname == "ShaderNodeTree":
-            return group
-    return _build_cells()
-
-
 def map_group(name, atlas, tiles, interpolation):
     """A new group (Vector, Scale, Seed -> Color, Alpha) laying ``tiles`` (``WangTiles``) from
     the ``atlas`` image (Blender's rows, bottom first)."""
     group, b, i = new_group(name, [("Vector", "Vector"), ("Scale", "Float", 2.0),
                                     ("Seed", "Float", 0.0)],
                              [("Color", "Color"), ("Alpha", "Float")])
-    cells = b.node("ShaderNodeGroup", node_tree=cells_group())
+    cells = b.node("ShaderNodeGroup", node_tree=shared_group(CELLS, _build_cells))
     for socket in ("Vector", "Scale", "Seed"):
         b.tree.links.new(i[socket], cells.inputs[socket])
     h, w = tiles.photo_shape
@@ -153,7 +167,5 @@ def map_group(name, atlas, tiles, interpolation):
                    b.math("SUBTRACT", 1.0, b.math("DIVIDE", py, float(height))), 0.0)
     read = b.node("ShaderNodeTexImage", (uv,), image=atlas, interpolation=interpolation,
                   extension="EXTEND")
-    opaque = b.node("ShaderNodeValue")
-    opaque.outputs[0].default_value = 1.0
-    finish_group(b, [read.outputs["Color"], opaque.outputs[0]])
+    finish_group(b, [read.outputs["Color"], opaque_alpha(b)])
     return group

@@ -1,6 +1,8 @@
-"""The node groups of ``texsynth.break_repetition``'s Hex Tiling mode (Mikkelsen 2022,
-"Practical Real-Time Hex-Tiling", JCGT 11(2)), built by code; ``texsynth.norepeat.hex`` is the
-numpy reference.
+"""Break Repetition's **Hex Tiling** mode (Mikkelsen 2022, "Practical Real-Time Hex-Tiling",
+JCGT 11(2)): no precomputation, the node groups built by code; ``texsynth.norepeat.hex`` is the
+numpy reference. By default the cells turn only by the active map's own symmetry
+(``texsynth.norepeat.rotation_symmetry``: half turns, quarter turns for a 4-fold photo), so a
+photo's courses, layers and light keep their direction.
 
 * **TexSynth Hex Grid** (Vector, Scale, Seed, Rotation, Turns, Texels -> UV 1-3, Angles,
   Weights): the triangle grid of tiling and blending, its vertices read as the centres of
@@ -23,15 +25,56 @@ nodes: Cycles and EEVEE both run them. Deviations as in ``texsynth.norepeat.hex`
 Blender's White Noise, so renders match the reference in their statistics, not pixel by pixel.
 """
 
-import bpy
+from ...texsynth.norepeat import GRID_SCALE, rotation_symmetry
+from ...texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
+from ..job import Job
+from .blend import triangle_grid
+from .maps import shader_maps
+from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
 
-from ..texsynth.norepeat import GRID_SCALE
-from ..texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
-from .norepeat_nodes import TAG, VERSION, finish_group, new_group, triangle_grid
-
+#: The mode's enum item, the operator settings its redo panel shows and its report's verb.
+ITEM = ("HEX_TILING", "Hex Tiling",
+        "Randomly offset and turned copies on hexagonal cells, the brighter copy winning at a "
+        "sharp seam (Mikkelsen 2022): for structured textures (layered rock, bark) and normal "
+        "maps; no precomputation")
+SETTINGS = ("scale", "seed", "turns", "rotation", "contrast", "sharpness")
+DONE = "hex-tiled"
+#: The Turns enum's items and the turns each asks for (AUTO: the photo's own).
+TURNS = [("AUTO", "Photo's Symmetry", "Half turns, or quarter turns for a photo with a "
+          "4-fold but no 2-fold direction (square setts, tiles): the photo's direction kept"),
+         ("HALF", "Half Turns", "Every cell upright or upside down"),
+         ("QUARTER", "Quarter Turns", "Multiples of 90 degrees"),
+         ("ANY", "Any Angle", "Any angle within Rotation: for textures with no direction "
+          "and no light direction (turns courses, layers and shadows every way)"),
+         ("NONE", "None", "Offsets only")]
+TURN_COUNTS = {"HALF": 2, "QUARTER": 4, "ANY": 0, "NONE": 1}
 GRID = "TexSynth Hex Grid"
 WEIGHTS = "TexSynth Hex Weights"
 PI = 3.141592653589793
+
+
+def prepare(op, src, nodes):
+    """Nothing to precompute: the job gives which maps are normal maps and the turns (the
+    active map's symmetry for AUTO)."""
+    maps, normals = shader_maps(nodes)
+    turns = TURN_COUNTS.get(op.turns)
+    image = maps[0][1]
+    return Job(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
+                                      else turns))
+
+
+def scale(op, result):
+    """The Scale node's value: the operator's Scale (hexagonal cells per texture tile)."""
+    return op.scale
+
+
+def groups(op, result, nodes):
+    """One new group per source node over its own image; the followers take the active map's
+    luminances."""
+    normals, _ = result
+    return [map_group(f"TexSynth Hex {stem(node.image)}", node.image, node.interpolation,
+                      normal=normal, follower=k > 0)
+            for k, (node, normal) in enumerate(zip(nodes, normals, strict=True))]
 
 
 def _build_grid():
@@ -81,16 +124,6 @@ def _build_weights():
     return group
 
 
-def shared_group(name):
-    """The shared group ``name`` (GRID or WEIGHTS): the file's own if built by this version,
-    else a new one."""
-    for group in bpy.data.node_groups:
-        if group.name.startswith(name) and group.get(TAG) == VERSION \
-                and group.bl_idname == "ShaderNodeTree":
-            return group
-    return {GRID: _build_grid, WEIGHTS: _build_weights}[name]()
-
-
 def map_group(name, image, interpolation, *, normal=False, follower=False):
     """A new group (Vector, Scale, Seed, Rotation, Turns, Contrast, Sharpness[, Luminance] ->
     Color, Alpha[, Luminance]) hex-tiling one map's own ``image``: a follower takes the active map's
@@ -104,7 +137,7 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
     else:
         outputs.append(("Luminance", "Vector"))
     group, b, i = new_group(name, inputs, outputs)
-    grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID))
+    grid = b.node("ShaderNodeGroup", node_tree=shared_group(GRID, _build_grid))
     for socket in ("Vector", "Scale", "Seed", "Rotation", "Turns"):
         b.tree.links.new(i[socket], grid.inputs[socket])
     grid.inputs["Texels"].default_value = (*image.size, 1.0)
@@ -118,7 +151,7 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
     else:
         luma = tuple(float(x) for x in LUMA)
         luminance = b.combine(*(b.vector("DOT_PRODUCT", c, luma) for c in copies))
-    weights = b.node("ShaderNodeGroup", node_tree=shared_group(WEIGHTS))
+    weights = b.node("ShaderNodeGroup", node_tree=shared_group(WEIGHTS, _build_weights))
     for socket, value in (("Weights", grid.outputs["Weights"]), ("Luminance", luminance),
                           ("Contrast", i["Contrast"]), ("Sharpness", i["Sharpness"])):
         b.tree.links.new(value, weights.inputs[socket])
@@ -136,19 +169,17 @@ def map_group(name, image, interpolation, *, normal=False, follower=False):
     if normal:
         total = b.vector("MULTIPLY_ADD", b.vector("NORMALIZE", total), (0.5, 0.5, 0.5),
                          (0.5, 0.5, 0.5))
-    opaque = b.node("ShaderNodeValue")
-    opaque.outputs[0].default_value = 1.0
-    finish_group(b, [total, opaque.outputs[0]] + ([] if follower else [luminance]))
+    finish_group(b, [total, opaque_alpha(b)] + ([] if follower else [luminance]))
     return group
 
 
-def link(tree, made, rotation, turns, contrast, sharpness):
+def link(op, tree, made, result):
     """The placed group nodes ``made`` (the active map's first) given the mode's settings, and
     the followers the active map's luminances."""
+    _, turns = result
     for node in made:
-        for socket, value in (("Rotation", rotation), ("Turns", float(turns)),
-                              ("Contrast", contrast),
-                              ("Sharpness", sharpness)):
+        for socket, value in (("Rotation", op.rotation), ("Turns", float(turns)),
+                              ("Contrast", op.contrast), ("Sharpness", op.sharpness)):
             node.inputs[socket].default_value = value
     for node in made[1:]:
         tree.links.new(made[0].outputs["Luminance"], node.inputs["Luminance"])
