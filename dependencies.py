@@ -32,7 +32,9 @@ from .versions import requirement, satisfies
 #: :func:`problem` names the mismatch (:func:`numpy_problem`) instead of SciPy's import warning.
 #: A cp313 scipy that fits it (1.16.3: numpy >= 1.25.2, < 2.6; 1.17: >= 1.26.4, < 2.7, from
 #: their METADATA) must wait until blender_version_min is past 4.2.0, whose Python-blind pick
-#: would install it into Python 3.11.
+#: would install it into Python 3.11 (bpy 4.2.0's bl_pkg/bl_extension_ops.py filters wheels by
+#: platform only, "TODO: Match Python & ABI tags", and its wheel_manager keeps a package's
+#: highest version; bpy 4.2.13, 4.2.23 and 4.3.0 skip wheels of another Python).
 #: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
 #: serves every Python and platform.
 BUNDLED = {

@@ -486,9 +486,12 @@ def _memory(shape, width, height, params):
     lattice pixel, its padded build, the lattice's colours, its block and box means) and a
     windows level's (the windows, C + 1 floats a pixel with their margin, and the random
     start's draw over the exemplar, 8 bytes a pixel); the output's maps (position, confidence,
-    visit need, and at the end the position pairs and colours: 26 + 4 C bytes a pixel); one
-    chunk's rows; the alignment of the largest aligned grid (its K border pairs' indices, 16
-    bytes each, its region graph, and ``region_shift.CHUNK`` gathers of C + 4 numbers)."""
+    visit need, and at the end the position pairs and colours: 26 + 4 C bytes a pixel); then
+    the larger of one chunk's rows (a visit) and the alignment of the largest aligned grid (its
+    K border pairs' indices, 16 bytes each, its region graph, and ``region_shift.CHUNK``
+    gathers of C + 4 numbers): the alignment runs between a level's visits, its peak and a
+    chunk's never together (tracemalloc: 26-28 and 10-11 MiB at 64 -> 256 and 2048 x 32, 42
+    and 19 MiB at 32 -> 512; their sum had put the peak 1.7-1.9x the resident)."""
     shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, c = shape
     r = params["radius"]
@@ -501,7 +504,7 @@ def _memory(shape, width, height, params):
     chunk = _Level.CHUNK * (k + params["random_candidates"]) * (4 * k * (c + 1) + 16) * 2
     grids = _aligned(width, height, n_levels, windows).values()
     align = max(grids) * (16 * k + 64) + region_shift.CHUNK * (c + 4) * 8 if grids else 0
-    return h * w * c * 4 + max(table, window) + maps + chunk + align + (8 << 20)
+    return h * w * c * 4 + max(table, window) + maps + max(chunk, align) + (8 << 20)
 
 
 def _cost(shape, width, height, params):

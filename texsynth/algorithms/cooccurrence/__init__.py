@@ -50,6 +50,8 @@ __all__ = ["Model", "fit", "METHOD", "COARSE_PIXELS", "REFINE_SWEEPS"]
 COARSE_PIXELS = 512 * 512
 #: Sweeps at a level that starts from the coarser level's result.
 REFINE_SWEEPS = 3
+#: (set pixels x columns) / output pixels of the relaxation's largest chunk (``_memory``).
+SET_COLUMNS = 2.5
 
 
 def cooccurrence(exemplar, width, height, rng, progress, max_offset=MAX_OFFSET,
@@ -148,17 +150,25 @@ def _cost(shape, width, height, params):
 
 def _memory(shape, width, height, params):
     """The larger of two phases, beside the half-size exemplar and the selection: synthesis
-    (padded image, colouring and float output per pixel, and a chunk's (pixels, 2T) gathers and
-    counts: three int64 arrays, T the typical number of types) and the exemplar's statistics
-    (the sampled strips: colours and components, float32, and one channel's marks; the
-    half-size synthesis' upsampled start is kept meanwhile). Selection: every candidate type's
-    pairs on the selection torus. The phases do not overlap: tracemalloc's peak from the 12 MP
-    photo and from its 1024^2 crop to 2048^2 is 473 and 442 MiB (31 MiB apart, the half-size
-    exemplar), this estimate 1.12 times both (the phases summed: 1.65 from 12 MP)."""
+    (padded image, colouring and float output per pixel, and a set's chunk of accepted pixels
+    with their columns' neighbour codes and the two counts' differences: three int64 arrays)
+    and the exemplar's statistics (the sampled strips: colours and components, float32, and
+    one channel's marks; the half-size synthesis' upsampled start is kept meanwhile).
+    Selection: every candidate type's pairs on the selection torus (at most
+    ``SELECTION_SIZE`` square). One line each:
+
+    - a chunk is a colour set's pixels, at most ``CHUNK``; a set times its columns is about
+      ``SET_COLUMNS`` a pixel (the colouring takes about as many sets as half the columns: 15
+      sets for 34 columns, 8 for 26, 2 for 4 at 256^2), where T columns a pixel had counted
+      every output pixel in one set (4.5x the resident peak at 64 -> 256);
+    - the phases do not overlap: tracemalloc's peak from the 12 MP photo and from its 1024^2
+      crop to 2048^2 is 473 and 442 MiB (31 MiB apart, the half-size exemplar), this estimate
+      1.12 times both (the phases summed: 1.65 from 12 MP)."""
     t = 2 * min(params["max_cliques"], TYPICAL_TYPES)
     candidates = ((2 * params["max_offset"] + 1) ** 2 - 1) // 2
-    selection = candidates * SELECTION_SIZE ** 2 * 24
-    chunk = min(CHUNK, width * height) * t * 8 * 3
+    torus = min(shape[0], SELECTION_SIZE) * min(shape[1], SELECTION_SIZE)
+    selection = candidates * torus * 24
+    chunk = min(CHUNK * t, SET_COLUMNS * width * height) * 8 * 3
     synthesis = width * height * (4 * 6 + 3 * 4 * shape[2]) + chunk
     statistics = sampled_pixels(shape, params["max_offset"]) * (8 * shape[2] + 4) \
         + 4 * shape[2] * width * height
