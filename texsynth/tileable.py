@@ -83,11 +83,12 @@ Deviations, one line each:
   left the bed joint at the wrap broken (the pavers' centre 512, a 14 px gap or step);
   where it is not (the brick walls: a part of a course left at the crossing), as before;
   without courses (gravel, a mixture, noise) the patches are chosen as before;
-- where the wrap is in phase and the courses' elements stand in a lattice
-  (``texsynth.blocks.rhythm.bond``: head joints a period ``Q`` apart along a course, shifted
-  ``s`` a course on), both arms' patches are copied by whole lattice steps, ``n`` courses and
-  ``n s + k Q`` columns, within a block on the search's grid and exactly at full resolution
-  (Liu, Collins & Tsin 2004's lattice; copies by a lattice vector continue every joint):
+- where the courses' elements stand in a lattice (``texsynth.blocks.rhythm.bond``: head
+  joints a period ``Q`` apart along a course, shifted ``s`` a course on) and the photo's
+  height is one of its steps (whole courses, their shift whole elements), both arms' patches
+  are copied by whole lattice steps, ``n`` courses and ``n s + k Q`` columns, within a block
+  on the search's grid and exactly at full resolution (Liu, Collins & Tsin 2004's lattice;
+  copies by a lattice vector continue every joint):
   free along the courses, the vertical arm lost a head joint (a paver twice as long) or held
   two a few pixels apart, and within ``PHASE`` the horizontal arm's bed joint stepped 12 px
   between patches (the concrete pavers' centre 512, dead-end ratio 1.11-1.24 over 6 seeds,
@@ -396,12 +397,22 @@ def _along(period: int | None, h: int) -> int | None:
 
 def _bond(photo: np.ndarray, period: int | None) -> tuple[int, int] | None:
     """``rhythm.bond`` of ``photo`` with its courses' ``period``, read on every k-th row and
-    column (about ``RHYTHM_SIDE`` of the shorter side's), in photo pixels."""
+    column (about ``RHYTHM_SIDE`` of the shorter side's), in photo pixels; ``None`` where the
+    photo's height is no lattice step (its caller: where it is whole courses)."""
     k = max(1, min(photo.shape[:2]) // RHYTHM_SIDE)
     if period is None or period < 4 * k:
         return None
     found = rhythm.bond(photo[::k, ::k], int(round(period / k)))
-    return None if found is None else (found[0] * k, found[1] * k)
+    if found is None:
+        return None
+    q, s = found[0] * k, found[1] * k
+    # Only where the wrap is a lattice step (its n courses shift the head joints n s, a whole
+    # number of Q within PHASE): else the courses beside the wrap are out of bond (the pavers'
+    # centre 640, 5 courses: the head joints either side 143 px apart, where a middle cut
+    # absorbs what no patch a lattice step away continues; dead-end ratio 1.13-1.37 with the
+    # bond, 1.11-1.25 without).
+    r = round(photo.shape[0] / period) * s % q
+    return (q, s) if min(r, q - r) <= PHASE * q else None
 
 
 def _contrast(image: np.ndarray) -> np.ndarray:
@@ -742,8 +753,6 @@ def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
     band_rows = slice(lay.m, lay.m + band)
     rows = (np.arange(lay.side) - lay.top - lay.m) % h
     period = rhythm.course_period(a[:, ::max(1, w // RHYTHM_SIDE)])
-    # The bond where the courses run on in phase across the wrap: out of phase, the middle
-    # cut absorbs a part of a course, which no patch a whole lattice step away continues.
     bond = _bond(a, period) if _along(period, h) is not None else None
     across = _Source(inside, contrast, coarse, lay.f, e, swap=False, period=period, bond=bond)
     strip, at = _arm(a[rows], positions[rows], _unlike(a, rows, band), across, lay, rng,
