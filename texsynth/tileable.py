@@ -396,16 +396,17 @@ def _along(period: int | None, h: int) -> int | None:
 
 
 def _bond(photo: np.ndarray, period: int | None) -> tuple[int, int] | None:
-    """``rhythm.bond`` of ``photo`` with its courses' ``period``, read on every k-th row and
-    column (about ``RHYTHM_SIDE`` of the shorter side's), in photo pixels; ``None`` where the
-    photo's height is no lattice step (its caller: where it is whole courses)."""
-    k = max(1, min(photo.shape[:2]) // RHYTHM_SIDE)
-    if period is None or period < 4 * k:
+    """``rhythm.bond`` of ``photo`` with its courses' ``period``, in photo pixels; ``None``
+    where the photo's height is no lattice step (its caller: where it is whole courses), or
+    its shorter side is ``2 RHYTHM_SIDE`` or more (a deviation: read on a sample, the bond
+    would be k pixels coarse, copies n courses away off by n k / 2, and reading it whole took
+    2 s at 2048 x 2048)."""
+    if period is None or min(photo.shape[:2]) >= 2 * RHYTHM_SIDE:
         return None
-    found = rhythm.bond(photo[::k, ::k], int(round(period / k)))
+    found = rhythm.bond(photo, period)
     if found is None:
         return None
-    q, s = found[0] * k, found[1] * k
+    q, s = found
     # Only where the wrap is a lattice step (its n courses shift the head joints n s, a whole
     # number of Q within PHASE): else the courses beside the wrap are out of bond (the pavers'
     # centre 640, 5 courses: the head joints either side 143 px apart, where a middle cut
