@@ -4,7 +4,7 @@ that leaves stochastic photos on the old path."""
 import numpy as np
 import pytest
 
-from texsynth.blocks.rhythm import course_period
+from texsynth.blocks.rhythm import bond, course_period
 
 from _images import running_bond, smooth_noise
 
@@ -27,3 +27,20 @@ def test_noise_and_a_ramp_have_no_courses(seed):
     noise = smooth_noise((256, 320), seed=seed, sigma=4)
     assert course_period(noise) is None
     assert course_period(noise + np.linspace(0, 1, 256)[:, None, None]) is None
+
+
+@pytest.mark.parametrize(("course", "brick"), [(24, 64), (48, 112)])
+def test_a_running_bonds_head_joints_are_found_a_brick_on_and_half_a_brick_a_course_on(
+        course, brick):
+    wall = _wall((240, 300), course, brick)
+    assert bond(wall, course) == (brick, brick // 2)
+
+
+def test_elements_out_of_line_have_no_bond():
+    """Courses whose head joints fall anywhere (random bond, like setts) read as no lattice."""
+    rng = np.random.default_rng(0)
+    wall = _wall((240, 320), 24, 64)
+    for k in range(10):  # each course moved along by its own shift
+        wall[24 * k:24 * k + 24] = np.roll(wall[24 * k:24 * k + 24], rng.integers(64), axis=1)
+    assert bond(wall, 24) is None
+    assert bond(smooth_noise((256, 320), seed=0, sigma=4), 24) is None

@@ -400,3 +400,23 @@ def test_huge_and_tiny_values_tile_as_ordinary_ones(scale):
     # Exact, but denormals hold the band to their last bit (2^-149, at the ordinary scale).
     assert np.abs(back - ordinary).max() <= (2.0 ** -149 * power if scale < 1e-37 else 0.0)
     assert seam_ratio(huge / np.float32(scale)) > 2 and seam_ratio(tile / np.float32(scale)) < 1.3
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_vertical_arm_keeps_the_head_joints_where_the_bricks_stand_in_a_lattice(seed):
+    """Pavers in running bond (``blocks.rhythm.bond``: their head joints recur a brick on and
+    half a brick a course on): the vertical arm's pieces are copied by whole lattice steps,
+    so every head joint in the arm's middle is where the lattice of the photo left of the wrap
+    puts it (its width is no whole number of bricks: the cut with the right side takes the
+    rest). Free along the courses, the arm lost a head joint there (a paver twice as long) or
+    held two, on the pavers' crop."""
+    wall = running_bond((232, 296), 1, course=48, brick=112, joint=2, tint=(0.6, 0.6, 0.6),
+                        shade=(0.6, 0.1), grain=0.4, mortar=(0.2, 0.2, 0.2), speckle=0.05)[0]
+    photo = np.ascontiguousarray(wall[7:199, 29:265])
+    band = default_band(photo.shape)
+    _, positions = texsynth.make_tileable_positions(photo, seed=seed)
+    rows = np.arange(band // 2, 192 - band // 2)[:, None]  # beyond the horizontal arm
+    cols = 236 + np.arange(-band // 4, band // 4)[None, :]  # the middle, as the left runs on
+    dy, dx = (positions[rows, cols % 236] - np.stack(np.broadcast_arrays(rows, cols), 2)).T
+    assert (dy % 48 == 0).all()
+    assert ((dx - dy // 48 * 56) % 112 == 0).all()
