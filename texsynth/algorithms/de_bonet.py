@@ -90,6 +90,7 @@ from scipy.spatial import cKDTree
 from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
+from ..blocks.quilting import torus_quilt
 from ..registry import Method, Param, register
 
 __all__ = [
@@ -102,6 +103,7 @@ __all__ = [
     "sample_pyramid",
     "BallSampler",
     "tiled_subset",
+    "quilted",
 ]
 
 #: Output locations matched at once (bounds the query block).
@@ -120,6 +122,10 @@ NEAREST_EPS = 3.0
 #: larger level is indexed on tiles of ``TILE`` x ``TILE`` of its locations, evenly spread.
 TREE_POINTS = 1 << 20
 TILE = 64
+#: The side of a block quilted into the output's coarsest level, over the exemplar's side there.
+QUILT_BLOCK = 1.0
+#: The neighbours' offsets a block keeps away from, over the exemplar's coarsest side.
+QUILT_RADIUS = 4
 #: Rows of an exemplar level projected at a time (on the cores, progress between).
 EXEMPLAR_ROWS = 64
 #: A query among coherent candidates in a free query's time (the cost model's figure).
@@ -440,12 +446,19 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     sources = [None] * (top + 1)
 
     hs, ws = ex_shapes[top]
-    oy = _offset(features[top], out_shapes[top][0], rng, features[:top])
-    ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng,
-                 [g.transpose(1, 0, 2) for g in features[:top]])
-    ys = (np.arange(out_shapes[top][0]) + oy) % hs
-    xs = (np.arange(out_shapes[top][1]) + ox) % ws
-    sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
+    quilt = quilted(ex_shapes[top], out_shapes[top])
+    if quilt:
+        block = max(4, round(min(hs, ws) * QUILT_BLOCK))
+        sources[top] = torus_quilt(features[top], out_shapes[top], block, rng,
+                                   radius=min(block // 2, min(hs, ws) // QUILT_RADIUS)
+                                   ).astype(np.int32)
+    else:
+        oy = _offset(features[top], out_shapes[top][0], rng, features[:top])
+        ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng,
+                     [g.transpose(1, 0, 2) for g in features[:top]])
+        ys = (np.arange(out_shapes[top][0]) + oy) % hs
+        xs = (np.arange(out_shapes[top][1]) + ox) % ws
+        sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
 
     scale = {}
     ends = np.cumsum([0.0] + level_work(ex_shapes, out_shapes)[::-1])
@@ -470,7 +483,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         for start in range(0, h * w, CHUNK):
             rows = np.arange(start, min(start + CHUNK, h * w))
             queries = space(sources, (h, w), rows)
-            if h * w > COHERENT_PIXELS:
+            if quilt or h * w > COHERENT_PIXELS:
                 candidates = coherent_candidates(sources[level + 1], ex_shapes[level:level + 2],
                                                  (h, w), rows)
                 src[rows] = sampler.draw_among(queries, candidates, rng)
@@ -480,6 +493,12 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         sources[level] = src.reshape(h, w)
         del space, sampler               # the next level's table is built without them
     return sources
+
+
+def quilted(ex_shape, out_shape) -> bool:
+    """Whether an output's coarsest level of ``out_shape`` is quilted from the exemplar's of
+    ``ex_shape`` (it is larger on a side) rather than copied whole."""
+    return out_shape[0] > ex_shape[0] or out_shape[1] > ex_shape[1]
 
 
 def level_work(ex_shapes, out_shapes) -> list[float]:
@@ -588,7 +607,7 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
     for c in range(exemplar.shape[2]):
         progress(sampled + (1 - sampled) * c / exemplar.shape[2], "collapsing the pyramid")
         levels = channel_levels(features, sources, c, orientations)
-        if tiled[0] % coarsest[0] or tiled[1] % coarsest[1]:
+        if not quilted(coarsest, tiled) and (tiled[0] % coarsest[0] or tiled[1] % coarsest[1]):
             # a crop of the exemplar's coarsest level, whose wrap would be a seam
             levels[-1] = periodic_component(levels[-1])
         out[:, :, c] = pyr_output.synthesize(levels)
