@@ -21,10 +21,11 @@ Deviations, one line each:
   small differences between good candidates);
 - a closed path is found by a second pass started where the open path is cheapest, ended
   within one entry of its start (exact for the loop through that entry);
-- a torus quilt's source wraps (it is a periodic pyramid level), and a block may not continue
-  a neighbour's copy (its offset within ``block // 2`` of theirs): the exact continuation has
-  no error, and drawn within the tolerance of it a quilt twice the source's size is the
-  source laid 2 x 2 again.
+- a torus quilt's source wraps (it is a periodic pyramid level); a block may not continue a
+  neighbour's copy (its offset within ``radius`` of theirs): the exact continuation has no
+  error, and drawn within the tolerance of it a quilt twice the source's size is the source
+  laid 2 x 2 again; and its source keeps ``radius`` away from every other block's where it
+  can (two blocks from one place repeat at their distance).
 """
 
 from __future__ import annotations
@@ -158,9 +159,11 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     covers ``overlap`` rows above and columns to its left (wrapping). Its strips that overlap
     what is placed (above and left; in the last row also below, in the last column also right:
     the first blocks across the wrap) weigh the SSD of every placement in the wrapped source
-    (:class:`Search`); one is drawn among those within ``1 + tolerance`` of the best, away from
-    the neighbours' offsets, and each strip is cut along its minimum error path
-    (:func:`min_error_path`). The map tiles: its wrap is a cut like the others.
+    (:class:`Search`); one is drawn among those within ``1 + tolerance`` of the best, whose
+    offset is more than ``radius`` (default ``block // 2``) from the neighbours' and, where
+    some are, whose source is that far from every other block's; and each strip is cut along
+    its minimum error path (:func:`min_error_path`). The map tiles: its wrap is a cut like the
+    others.
 
     Examples
     --------
@@ -182,6 +185,7 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     values = np.zeros((height, width, s.shape[2]))
     where = np.zeros((height, width), np.int64)
     offsets = {}                          # cell -> (dy, dx): source row/column minus output's
+    placements = []                       # each block's first source row and column
     ny, nx = len(ys) - 1, len(xs) - 1
     for i in range(ny):
         for j in range(nx):
@@ -199,8 +203,10 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
             near = [offsets[c] for c in ((i - 1, j - 1), (i - 1, j), (i - 1, j + 1), (i, j - 1),
                                          (i, (j + 1) % nx), ((i + 1) % ny, j)) if c in offsets]
             py, px = _placement(search, template, mask, (h, w), (rows[0], cols[0]), near,
-                                block // 2 if radius is None else radius, tolerance, rng)
+                                placements, block // 2 if radius is None else radius,
+                                tolerance, rng)
             offsets[i, j] = ((py - rows[0]) % h, (px - cols[0]) % w)
+            placements.append((py, px))
             new = padded[py:py + ph, px:px + pw]
             keep = np.zeros((ph, pw), bool)        # where what is placed stays (the cuts)
             e = ((new - template) ** 2).sum(axis=2)
@@ -221,10 +227,12 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     return where
 
 
-def _placement(search, template, mask, source_shape, corner, near, radius, tolerance, rng):
+def _placement(search, template, mask, source_shape, corner, near, placed, radius, tolerance,
+               rng):
     """A block's first source row and column: uniform where nothing overlaps it, else drawn
     among the placements within ``1 + tolerance`` of the least SSD, leaving out those whose
-    offset from the output's ``corner`` is within ``radius`` of a neighbour's (``near``)."""
+    offset from the output's ``corner`` is within ``radius`` of a neighbour's (``near``) and,
+    while others remain, those within ``radius`` of a block ``placed`` before."""
     h, w = source_shape
     if not mask.any():
         return int(rng.integers(0, h)), int(rng.integers(0, w))
@@ -235,6 +243,12 @@ def _placement(search, template, mask, source_shape, corner, near, radius, toler
         ey = np.abs((py - corner[0] - dy + h // 2) % h - h // 2)
         ex = np.abs((px - corner[1] - dx + w // 2) % w - w // 2)
         allowed &= (ey > radius) | (ex > radius)
+    far = allowed.copy()
+    for qy, qx in placed:                  # a block's source away from every other's
+        far &= ((np.abs((py - qy + h // 2) % h - h // 2) > radius)
+                | (np.abs((px - qx + w // 2) % w - w // 2) > radius))
+    if far.any():
+        allowed = far
     if allowed.any():
         ssd = np.where(allowed, ssd, np.inf)
     best = float(ssd.min())
