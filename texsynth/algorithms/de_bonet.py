@@ -74,13 +74,13 @@ Deviations, one line each:
 - where the output's coarsest level is larger than the exemplar's (an output larger than the
   photo), it is not the exemplar's tiled but quilted from it on the torus (Efros & Freeman 2001,
   2.1: ``blocks.quilting.torus_quilt``; blocks of the exemplar's coarsest side, an eighth of it
-  overlapping, no block within a third of that side of another's source or continuing a
-  neighbour), and every level then draws among coherent candidates: tiled, each finer level's
+  overlapping, no block at a neighbour's offset or within a third of that side of another's
+  source), and every level then draws among coherent candidates: tiled, each finer level's
   parent structure found the exemplar's own location again (65% of the finest level copied
   the tiling's offset from a 256 crop to 512), so the output was the photo laid 2 x 2
-  (repetition peak 0.83 on a rock face, 0.84 on bricks; now 0.17 and 0.22 with seed 0); the
-  ball alone scrambled the levels below the cuts (structure distance 0.26 on the 34 textures
-  128 -> 256, 0.18 tiled, 0.155 coherent);
+  (repetition peak 0.83 on a rock face, 0.84 on bricks, the photos' 0.13, 0.33; now 0.11 and
+  0.25 with seed 0; 1024 -> 2048 0.86 -> 0.18); the ball alone scrambled the levels below the
+  cuts (structure distance 0.26 on the 34 textures 128 -> 256, tiled 0.18, now 0.16);
 - an output with a side under 8 pixels has no pyramid level to synthesize: it is the periodic
   component of an exemplar crop (which tiles; the crop's own wrap would be a seam).
 

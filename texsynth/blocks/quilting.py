@@ -24,8 +24,10 @@ Deviations, one line each:
 - a torus quilt's source wraps (it is a periodic pyramid level); a block may not continue a
   neighbour's copy (its offset within ``radius`` of theirs): the exact continuation has no
   error, and drawn within the tolerance of it a quilt twice the source's size is the source
-  laid 2 x 2 again; and its source keeps ``radius`` away from every other block's where it
-  can (two blocks from one place repeat at their distance).
+  laid 2 x 2 again; where it can, its offset is also ``radius // 2`` from every block's (one
+  offset twice repeats at the source's period) and its source ``radius`` from every block's
+  (two blocks from one place repeat at their distance): these rules are dropped one by one,
+  then the neighbours' radius halved, while no placement is left.
 """
 
 from __future__ import annotations
@@ -161,7 +163,8 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     the first blocks across the wrap) weigh the SSD of every placement in the wrapped source
     (:class:`Search`); one is drawn among those within ``1 + tolerance`` of the best, whose
     offset is more than ``radius`` (default ``block // 2``) from the neighbours' and, where
-    some are, whose source is that far from every other block's; and each strip is cut along
+    some are, half that from every block's, whose source is that far from every other
+    block's; and each strip is cut along
     its minimum error path (:func:`min_error_path`). The map tiles: its wrap is a cut like the
     others.
 
@@ -203,7 +206,8 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
             near = [offsets[c] for c in ((i - 1, j - 1), (i - 1, j), (i - 1, j + 1), (i, j - 1),
                                          (i, (j + 1) % nx), ((i + 1) % ny, j)) if c in offsets]
             py, px = _placement(search, template, mask, (h, w), (rows[0], cols[0]), near,
-                                placements, block // 2 if radius is None else radius,
+                                placements, offsets.values(),
+                                block // 2 if radius is None else radius,
                                 tolerance, rng)
             offsets[i, j] = ((py - rows[0]) % h, (px - cols[0]) % w)
             placements.append((py, px))
@@ -227,30 +231,34 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     return where
 
 
-def _placement(search, template, mask, source_shape, corner, near, placed, radius, tolerance,
-               rng):
+def _placement(search, template, mask, source_shape, corner, near, placed, offsets, radius,
+               tolerance, rng):
     """A block's first source row and column: uniform where nothing overlaps it, else drawn
     among the placements within ``1 + tolerance`` of the least SSD, leaving out those whose
     offset from the output's ``corner`` is within ``radius`` of a neighbour's (``near``) and,
-    while others remain, those within ``radius`` of a block ``placed`` before."""
+    while others remain, within ``radius // 2`` of any block's (``offsets``), and those within
+    ``radius`` of a block's source (``placed``)."""
     h, w = source_shape
     if not mask.any():
         return int(rng.integers(0, h)), int(rng.integers(0, w))
     ssd = search.ssd(template, mask)[:h, :w]
     py, px = np.arange(h)[:, None], np.arange(w)[None, :]
-    allowed = np.ones((h, w), bool)
-    for dy, dx in near:
-        ey = np.abs((py - corner[0] - dy + h // 2) % h - h // 2)
-        ex = np.abs((px - corner[1] - dx + w // 2) % w - w // 2)
-        allowed &= (ey > radius) | (ex > radius)
-    far = allowed.copy()
-    for qy, qx in placed:                  # a block's source away from every other's
-        far &= ((np.abs((py - qy + h // 2) % h - h // 2) > radius)
-                | (np.abs((px - qx + w // 2) % w - w // 2) > radius))
-    if far.any():
-        allowed = far
-    if allowed.any():
-        ssd = np.where(allowed, ssd, np.inf)
+
+    def away(points, r, origin=(0, 0)):
+        """Placements more than r (on either axis, on the torus) from every point."""
+        out = np.ones((h, w), bool)
+        for qy, qx in points:
+            out &= ((np.abs((py - origin[0] - qy + h // 2) % h - h // 2) > r)
+                    | (np.abs((px - origin[1] - qx + w // 2) % w - w // 2) > r))
+        return out
+
+    neighbours = away(near, radius, corner)
+    apart = neighbours & away(offsets, radius // 2, corner)   # at no block's offset: a tiling
+    far = apart & away(placed, radius)                        # nor at any block's source
+    # the rules dropped one by one, the neighbours' radius halved, until some placement is left
+    allowed = next((a for a in (far, apart, neighbours, away(near, radius // 2, corner),
+                                away(near, 0, corner)) if a.any()), np.ones((h, w), bool))
+    ssd = np.where(allowed, ssd, np.inf)
     best = float(ssd.min())
     chosen = np.flatnonzero(ssd.ravel() <= best * (1 + tolerance) + 1e-12)
     return tuple(int(v) for v in np.divmod(int(rng.choice(chosen)), w))
