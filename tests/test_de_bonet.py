@@ -18,7 +18,8 @@ from texsynth.algorithms.de_bonet import (
 )
 from texsynth.blocks.periodic import periodic_component
 from texsynth.blocks.pyramid import LaplacianPyramid
-from texsynth.metrics import gradient_ratio, seam_ratio
+from texsynth.blocks.quilting import torus_quilt
+from texsynth.metrics import gradient_ratio, repetition_peak, seam_ratio
 from texsynth.progress import Progress
 
 
@@ -280,3 +281,24 @@ def test_a_large_photo_gives_what_its_crop_gives(monkeypatch):
         sharpness.append(gradient_ratio(photo, out))
     assert 0.95 < min(sharpness) and max(sharpness) < 1.2
     assert 0.9 < sharpness[0] / sharpness[1] < 1.1
+
+
+def test_an_output_twice_the_photo_does_not_lay_it_2_x_2():
+    # tiled, the coarsest level made the finer levels find the photo's own places again: the
+    # output was the photo laid 2 x 2 (peak 0.75 here, the photo's 0.17); quilted, 0.18
+    photo = _grain((96, 96), seed=4)
+    out = texsynth.synthesize(photo, 192, 192, method="de_bonet", seed=0)
+    assert repetition_peak(out) < repetition_peak(photo) + 0.1
+    assert 0.8 < seam_ratio(out) < 1.25
+
+
+def test_a_torus_quilt_tiles_from_pieces_of_its_source():
+    # on a torus the quilt's wrap is a cut like any other: each block is a piece of the source,
+    # so most neighbours (across the wrap too) continue each other's source
+    source = np.random.default_rng(0).random((16, 16, 1))
+    where = torus_quilt(source, (40, 24), 8, np.random.default_rng(1))
+    y, x = np.divmod(where, 16)
+    for axis, (dy, dx) in ((0, (1, 0)), (1, (0, 1))):
+        step = ((np.roll(y, -1, axis) - y) % 16 == dy) & ((np.roll(x, -1, axis) - x) % 16 == dx)
+        assert step.mean() > 0.7
+    assert len(np.unique(where)) > 0.5 * source.shape[0] * source.shape[1]

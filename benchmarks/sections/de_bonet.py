@@ -139,11 +139,12 @@ def run(ctx) -> str:
     out = [
         "`texsynth.synthesize(..., method=\"de_bonet\")`, defaults ("
         + ", ".join(f"{k} {v}" for k, v in DEFAULTS.items())
-        + "). The coarsest Laplacian level is copied, tiled from a random "
-        "offset; every finer level copies, location by location, the values (Laplacian level "
-        "and K steerable responses, all channels) of an exemplar location drawn uniformly among "
-        "all whose parent structure (the coarser levels read at that position) is within the "
-        "threshold, the nearest when none is.",
+        + "). The coarsest Laplacian level is copied from a random offset, or, where the "
+        "output's is larger than the exemplar's, quilted from it on the torus (every level then "
+        "drawing among coherent candidates first); every finer level copies, location by "
+        "location, the values (Laplacian level and K steerable responses, all channels) of an "
+        "exemplar location drawn uniformly among all whose parent structure (the coarser "
+        "levels read at that position) is within the threshold, the nearest when none is.",
         "",
         f"### Exemplar | Heeger-Bergen | De Bonet ({side // 2} px exemplar crop -> {side}^2, "
         f"seed {SEED})",

@@ -12,12 +12,22 @@ Efros & Freeman 2001, "Image quilting for texture synthesis and transfer", secti
   E(i, j) = e(i, j) + min(E(i-1, j-1), E(i-1, j), E(i-1, j+1)); its smallest last entry traced
   back gives the cut (:func:`min_error_path`). ``closed=True`` makes the path a loop on a
   torus: its last and first entries differ by at most one (the arms of a tileable band wrap).
+- **Quilting a torus** (:func:`torus_quilt`): blocks placed in raster order, each overlapping
+  the ones before it (and, in the last row and column, the first ones across the wrap), chosen
+  and cut as above: a position map of any size that tiles, each block a piece of the source.
 
 Deviations, one line each:
 - the SSD is computed in float64 (the expansion subtracts large sums; float32 would lose the
   small differences between good candidates);
 - a closed path is found by a second pass started where the open path is cheapest, ended
-  within one entry of its start (exact for the loop through that entry).
+  within one entry of its start (exact for the loop through that entry);
+- a torus quilt's source wraps (it is a periodic pyramid level); a block may not continue a
+  neighbour's copy (its offset within ``radius`` of theirs): the exact continuation has no
+  error, and drawn within the tolerance of it a quilt twice the source's size is the source
+  laid 2 x 2 again; where it can, its offset is also ``radius // 2`` from every block's (one
+  offset twice repeats at the source's period) and its source ``radius`` from every block's
+  (two blocks from one place repeat at their distance): these rules are dropped one by one,
+  then the neighbours' radius halved, while no placement is left.
 """
 
 from __future__ import annotations
@@ -27,7 +37,7 @@ import scipy.fft as sfft
 
 from .parallel import threads
 
-__all__ = ["Search", "block_means", "min_error_path"]
+__all__ = ["Search", "block_means", "min_error_path", "torus_quilt"]
 
 
 def block_means(image: np.ndarray, f: int) -> np.ndarray:
@@ -133,3 +143,122 @@ def min_error_path(e: np.ndarray, closed: bool = False) -> np.ndarray:
     ends = np.arange(max(0, path[row] - 1), min(e.shape[1], path[row] + 2))
     loop = _trace(steps, int(ends[total[ends].argmin()]))
     return np.roll(loop, row)
+
+
+def _cells(n: int, step: int) -> np.ndarray:
+    """Boundaries of at least 2 cells of at least 2 entries, about ``step`` long, over n."""
+    count = max(2, min(-(-n // max(step, 1)), n // 2))
+    return np.round(np.linspace(0, n, count + 1)).astype(np.int64)
+
+
+def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.random.Generator,
+                overlap: int | None = None, tolerance: float = 0.1,
+                radius: int | None = None) -> np.ndarray:
+    """A position map of ``shape`` (int64 flat indices into ``source``'s (h, w) grid) quilted
+    from blocks of the periodic (h, w, C) ``source``: Efros & Freeman 2001, 2.1, on a torus.
+
+    Cells of about ``block - overlap`` a side, in raster order, each taking a block that also
+    covers ``overlap`` rows above and columns to its left (wrapping). Its strips that overlap
+    what is placed (above and left; in the last row also below, in the last column also right:
+    the first blocks across the wrap) weigh the SSD of every placement in the wrapped source
+    (:class:`Search`); one is drawn among those within ``1 + tolerance`` of the best, whose
+    offset is more than ``radius`` (default ``block // 2``) from the neighbours' and, where
+    some are, half that from every block's, whose source is that far from every other
+    block's; and each strip is cut along
+    its minimum error path (:func:`min_error_path`). The map tiles: its wrap is a cut like the
+    others.
+
+    Examples
+    --------
+    >>> source = np.random.default_rng(0).random((16, 16, 1))
+    >>> where = torus_quilt(source, (40, 24), 8, np.random.default_rng(1))
+    >>> where.shape, bool(where.min() >= 0 and where.max() < 16 * 16)
+    ((40, 24), True)
+    """
+    h, w = source.shape[:2]
+    height, width = shape
+    overlap = max(1, block // 4) if overlap is None else overlap
+    ys, xs = _cells(height, block - overlap), _cells(width, block - overlap)
+    o_y = max(1, min(overlap, int(np.diff(ys).min()) - 1))
+    o_x = max(1, min(overlap, int(np.diff(xs).min()) - 1))
+    tall, wide = int(np.diff(ys).max()) + o_y, int(np.diff(xs).max()) + o_x
+    s = np.asarray(source, np.float64)
+    padded = np.pad(s, ((0, tall - 1), (0, wide - 1), (0, 0)), mode="wrap")
+    search = Search(padded)
+    values = np.zeros((height, width, s.shape[2]))
+    where = np.zeros((height, width), np.int64)
+    offsets = {}                          # cell -> (dy, dx): source row/column minus output's
+    placements = []                       # each block's first source row and column
+    ny, nx = len(ys) - 1, len(xs) - 1
+    for i in range(ny):
+        for j in range(nx):
+            rows = np.arange(ys[i] - o_y, ys[i + 1]) % height
+            cols = np.arange(xs[j] - o_x, xs[j + 1]) % width
+            ph, pw = len(rows), len(cols)
+            sides = {"top": i > 0, "bottom": i == ny - 1, "left": j > 0, "right": j == nx - 1}
+            mask = np.zeros((ph, pw))
+            mask[:o_y] += sides["top"]
+            mask[ph - o_y:] += sides["bottom"]
+            mask[:, :o_x] += sides["left"]
+            mask[:, pw - o_x:] += sides["right"]
+            mask = np.minimum(mask, 1.0)
+            template = values[np.ix_(rows, cols)]
+            near = [offsets[c] for c in ((i - 1, j - 1), (i - 1, j), (i - 1, j + 1), (i, j - 1),
+                                         (i, (j + 1) % nx), ((i + 1) % ny, j)) if c in offsets]
+            py, px = _placement(search, template, mask, (h, w), (rows[0], cols[0]), near,
+                                placements, offsets.values(),
+                                block // 2 if radius is None else radius,
+                                tolerance, rng)
+            offsets[i, j] = ((py - rows[0]) % h, (px - cols[0]) % w)
+            placements.append((py, px))
+            new = padded[py:py + ph, px:px + pw]
+            keep = np.zeros((ph, pw), bool)        # where what is placed stays (the cuts)
+            e = ((new - template) ** 2).sum(axis=2)
+            r, c = np.arange(ph)[:, None], np.arange(pw)[None, :]
+            if sides["left"]:
+                keep |= c < min_error_path(e[:, :o_x])[:, None]
+            if sides["right"]:
+                keep |= c > pw - o_x + min_error_path(e[:, pw - o_x:])[:, None]
+            if sides["top"]:
+                keep |= r < min_error_path(e[:o_y].T)[None, :]
+            if sides["bottom"]:
+                keep |= r > ph - o_y + min_error_path(e[ph - o_y:].T)[None, :]
+            put = ~keep
+            grid = np.ix_(rows, cols)
+            values[grid] = np.where(put[:, :, None], new, template)
+            flat = ((py + r) % h) * w + (px + c) % w
+            where[grid] = np.where(put, flat, where[grid])
+    return where
+
+
+def _placement(search, template, mask, source_shape, corner, near, placed, offsets, radius,
+               tolerance, rng):
+    """A block's first source row and column: uniform where nothing overlaps it, else drawn
+    among the placements within ``1 + tolerance`` of the least SSD, leaving out those whose
+    offset from the output's ``corner`` is within ``radius`` of a neighbour's (``near``) and,
+    while others remain, within ``radius // 2`` of any block's (``offsets``), and those within
+    ``radius`` of a block's source (``placed``)."""
+    h, w = source_shape
+    if not mask.any():
+        return int(rng.integers(0, h)), int(rng.integers(0, w))
+    ssd = search.ssd(template, mask)[:h, :w]
+    py, px = np.arange(h)[:, None], np.arange(w)[None, :]
+
+    def away(points, r, origin=(0, 0)):
+        """Placements more than r (on either axis, on the torus) from every point."""
+        out = np.ones((h, w), bool)
+        for qy, qx in points:
+            out &= ((np.abs((py - origin[0] - qy + h // 2) % h - h // 2) > r)
+                    | (np.abs((px - origin[1] - qx + w // 2) % w - w // 2) > r))
+        return out
+
+    neighbours = away(near, radius, corner)
+    apart = neighbours & away(offsets, radius // 2, corner)   # at no block's offset: a tiling
+    far = apart & away(placed, radius)                        # nor at any block's source
+    # the rules dropped one by one, the neighbours' radius halved, until some placement is left
+    allowed = next((a for a in (far, apart, neighbours, away(near, radius // 2, corner),
+                                away(near, 0, corner)) if a.any()), np.ones((h, w), bool))
+    ssd = np.where(allowed, ssd, np.inf)
+    best = float(ssd.min())
+    chosen = np.flatnonzero(ssd.ravel() <= best * (1 + tolerance) + 1e-12)
+    return tuple(int(v) for v in np.divmod(int(rng.choice(chosen)), w))
