@@ -518,7 +518,8 @@ def level_work(ex_shapes, out_shapes) -> list[float]:
     """Each sampled level's work (finest first, the coarsest copied level left out), in free
     queries: its output locations' queries and its exemplar locations' projection and index.
     The progress goes by it: equal shares told a quarter done at a twentieth of the time."""
-    return [h * w * (COHERENT_COST if h * w > COHERENT_PIXELS else 1.0)
+    quilt = quilted(ex_shapes[-1], out_shapes[-1])   # every level draws coherent ones first
+    return [h * w * (COHERENT_COST if quilt or h * w > COHERENT_PIXELS else 1.0)
             + INDEX_WORK * ex[0] * ex[1]
             for ex, (h, w) in zip(ex_shapes[:-1], out_shapes[:-1], strict=True)]
 
@@ -679,9 +680,10 @@ def _cost(shape, width, height, params):
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
     pixels, locations = width * height, 0.0
+    quilt = height > h or width > w       # quilted(): a coarsest level larger than the exemplar's
     for level in range(16):
         n = pixels * 4.0**-level
-        locations += 0.75 * n * (COHERENT_COST if n > COHERENT_PIXELS else 1.0)
+        locations += 0.75 * n * (COHERENT_COST if quilt or n > COHERENT_PIXELS else 1.0)
     levels = pyramid_depth(shape, width, height, params["scales"])
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
             + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
