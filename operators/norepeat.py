@@ -42,7 +42,7 @@ from ..texsynth.norepeat import GRID_SCALE, gaussianize, predict_memory
 from ..texsynth.norepeat.gaussian import MU
 from ..texsynth.norepeat.hex import CONTRAST, SHARPNESS, rotation_symmetry
 from . import norepeat_hex_nodes, norepeat_nodes, norepeat_tileset, pixels, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 MODES = [("TILING_AND_BLENDING", "Tiling and Blending",
           "Histogram-preserving blend of randomly offset copies on a triangle grid: for "
@@ -213,9 +213,9 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
         if self.mode == "HEX_TILING":  # nothing to precompute: the flags and the turns
             turns = TURN_COUNTS.get(self.turns)
             image = maps[0][1]
-            return Job(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
-                                              else turns)), (src, [n.name for n in nodes])
-        return Job(_precompute, maps), (src, [n.name for n in nodes])
+            return Task(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
+                                               else turns)), (src, [n.name for n in nodes])
+        return Task(_precompute, maps), (src, [n.name for n in nodes])
 
     def _prepare_tiles(self, src, nodes):
         """Tile Set: every map of one size, opaque; the stored values (no colour conversion:
@@ -228,7 +228,7 @@ class TEXSYNTH_OT_break_repetition(JobOperator, bpy.types.Operator):
                                  f"like '{src.image}': Tile Set needs the maps of one size")
         norepeat_tileset.check(nodes[0].image, len(nodes), self.colours)
         maps = [_opaque(node.image, pixels.read_exemplar(node.image)[0]) for node in nodes]
-        job = Job(norepeat_tileset.precompute, maps, colours=self.colours, seed=self.seed)
+        job = Task(norepeat_tileset.precompute, maps, colours=self.colours, seed=self.seed)
         return job, (src, [n.name for n in nodes])
 
     def make(self, result, plan):

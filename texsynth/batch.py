@@ -165,6 +165,10 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
         raise InputError(f"{path}:{line}: not UTF-8 text; save the manifest as UTF-8") from None
     except OSError as error:
         raise InputError(f"{path}: cannot read ({error.strerror or error})") from None
+    if "\0" in text:  # no path holds one (a binary file or UTF-16 read as UTF-8)
+        line = text[:text.index("\0")].count("\n") + 1
+        raise InputError(f"{path}:{line}: a NUL byte, not text; save the manifest as UTF-8 "
+                         "text") from None
     dialect = "excel-tab" if path.suffix.lower() == ".tsv" or "\t" in text.split("\n")[0] \
         else "excel"
     reader = csv.DictReader(text.splitlines(), dialect=dialect)

@@ -122,8 +122,8 @@ class Bar:
             self.last = (tenth, message)
 
     def _left(self, fraction: float) -> str:
-        seconds = self.left.seconds(fraction)
-        return "" if seconds is None or fraction >= 1.0 else f" ({_clock(seconds)} left)"
+        told = self.left.text(fraction)
+        return f" ({told})" if told else ""
 
     def _draw(self, fraction: float, message: str) -> None:
         filled = int(round(fraction * 24))
@@ -139,12 +139,6 @@ class Bar:
             self.stream.write("\n")
             self.stream.flush()
             self.drawn = False
-
-
-def _clock(seconds: float) -> str:
-    seconds = int(round(seconds))
-    h, rest = divmod(seconds, 3600)
-    return f"{h}:{rest // 60:02d}:{rest % 60:02d}" if h else f"{rest // 60}:{rest % 60:02d}"
 
 
 # --- options -------------------------------------------------------------------------------

@@ -231,8 +231,9 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
     written: dict = {}
     again = None if source_folder is None else _identity(str(source_folder))[0]
     for job in jobs:
-        for out in job.all_outputs():
-            name = f"{job.origin}: {out}" if job.origin else f"-o {out}"
+        sources = ("-o", *(f"--maps {m} ->" for m in job.maps), "--preview ->")
+        for source, out in zip(sources, job.all_outputs(), strict=False):
+            name = f"{job.origin}: {out}" if job.origin else f"{source} {out}"
             try:
                 output_format(out)
             except ValueError as error:
@@ -243,8 +244,8 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
                 if part in inputs:
                     raise UsageError(f"{name}: would overwrite the input {inputs[part]}")
                 if part in written:
-                    raise UsageError(f"{name}: the same file as the output {written[part]}; "
-                                     "give the outputs different names")
+                    raise UsageError(f"{name}: the same file as another output, "
+                                     f"{written[part]}; give the outputs different names")
             if (again is not None and Path(out).suffix.lower() in PHOTO_SUFFIXES
                     and _identity(str(Path(out).parent))[0] == again):
                 raise UsageError(f"-o {Path(out).parent}: the outputs would be read as photos "
