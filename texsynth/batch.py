@@ -157,6 +157,11 @@ def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]
             max((peak for _, peak in known), default=0.0) * (workers or default_workers()))
 
 
+#: A manifest's columns (docs/BATCH.md).
+COLUMNS = ("photo", "maps", "operation", "method", "size", "seed", "params", "band", "in_size",
+           "mask", "corners")
+
+
 def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
     try:
         text = path.read_bytes().decode("utf-8-sig")
@@ -174,6 +179,11 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
     reader = csv.DictReader(text.splitlines(), dialect=dialect)
     if not reader.fieldnames or "photo" not in [f.strip() for f in reader.fieldnames]:
         raise UsageError(f"{path}: a manifest needs a header row with a 'photo' column")
+    unknown = [f.strip() for f in reader.fieldnames if f.strip() and f.strip() not in COLUMNS]
+    if unknown:  # a misspelt column would be ignored, its values never used
+        raise UsageError(f"{path}:1: unknown column '{unknown[0]}'; the columns are "
+                         f"{', '.join(COLUMNS)} (method parameters go in params, "
+                         "e.g. radius=4;visits=3)")
     rows = []
     for number, row in enumerate(reader, start=2):
         row = {k.strip(): (v or "").strip() for k, v in row.items() if k}

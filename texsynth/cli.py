@@ -559,6 +559,7 @@ def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
         bar = Bar(quiet=args.quiet)
+        _check_bits(args)
         args.run(args, bar)
     except (Cancelled, KeyboardInterrupt):
         return _fail(bar, "interrupted; nothing half-written is left", 130)
@@ -576,6 +577,19 @@ def main(argv=None) -> int:
         return _fail(bar, f"internal error: {type(error).__name__}: {error} (TEXSYNTH_DEBUG=1 "
                      "shows where; please report it)", JobError.code)
     return 0
+
+
+def _check_bits(args) -> None:
+    """``--bits 16`` with a JPEG output: refused (a JPEG holds 8 bits a sample; without
+    ``--bits`` a 16-bit photo's JPEG is 8 bits, as documented)."""
+    if getattr(args, "bits", None) != 16:
+        return
+    out = getattr(args, "output", None)
+    fmt = getattr(args, "format", None)
+    jpeg = fmt in ("jpg", "jpeg") if fmt else out is not None and \
+        Path(out).suffix.lower() in (".jpg", ".jpeg")
+    if jpeg:
+        raise UsageError("--bits 16: a JPEG holds 8 bits a sample; write .png or .tif for 16")
 
 
 def _fail(bar: Bar, text: str, code: int) -> int:

@@ -329,8 +329,12 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
                                  f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
                                  f"photo's {photo[1]} x {photo[0]}")
         forecasts.append(_check_run(job, in_shape(photo, job.in_size)))
-    for folder in dict.fromkeys(Path(out).parent for job in jobs for out in job.all_outputs()):
-        check_folder(folder)
+    longest: dict[Path, str] = {}
+    for out in (Path(out) for job in jobs for out in job.all_outputs()):
+        if len(out.name.encode()) > len(longest.get(out.parent, "").encode()):
+            longest[out.parent] = out.name
+    for folder, name in longest.items():
+        check_folder(folder, name)
     return forecasts
 
 
@@ -340,6 +344,9 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
     if job.operation not in OPERATIONS:
         raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
                          f"{job.operation!r}")
+    if job.in_size is not None and max(shape[:2]) > validation.MAX_SIDE:
+        raise UsageError(f"{job.at('in-size')}: the photo would be {shape[1]} x {shape[0]}; "
+                         f"at most {validation.MAX_SIDE} pixels a side")
     try:
         if job.operation == "material":
             return _check_material(job, shape)
@@ -365,16 +372,28 @@ def _named(job: Job) -> str:
     return ": ".join(dict.fromkeys(filter(None, (job.origin, job.photo))))
 
 
-def check_folder(folder: Path) -> None:
-    """Make ``folder`` (and its parents) and write and remove a file in it, or
-    :class:`OutputError` naming it: before the work, not after it."""
+def check_folder(folder: Path, name: str = "probe") -> None:
+    """Make ``folder`` (and its parents) and write and remove a file in it, named as
+    :func:`write_outputs` names its temporary files, and check that ``name`` (the folder's
+    longest output) fits the folder's limit on names; :class:`OutputError` naming the folder
+    or file: before the work, not after it."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=TEMP_PREFIX + "probe-", dir=folder)
+        fd, probe = tempfile.mkstemp(prefix=_temp_prefix(Path(name)), dir=folder)
         os.close(fd)
         os.unlink(probe)
+        longest = os.pathconf(folder, "PC_NAME_MAX")
     except OSError as error:
         raise OutputError(f"{folder}: cannot write there ({error.strerror or error})") from None
+    if len(name.encode()) > longest:
+        raise OutputError(f"{folder / name}: the name is {len(name.encode())} bytes long, over "
+                          f"the {longest} this folder allows; choose a shorter one")
+
+
+def _temp_prefix(path: Path) -> str:
+    """The start of an output's temporary name: its stem cut short (a name near the limit
+    still has room for the prefix and the random part)."""
+    return f"{TEMP_PREFIX}{path.stem[:48]}-"
 
 
 # --- 3. the work ----------------------------------------------------------------------------
@@ -435,7 +454,7 @@ def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
     try:
         for path, image in files:
             path = Path(path)
-            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
+            fd, temp = tempfile.mkstemp(prefix=_temp_prefix(path), suffix=path.suffix,
                                         dir=path.parent)
             os.close(fd)
             temps.append(temp)

@@ -152,6 +152,9 @@ def _kind(path) -> str:
     path = Path(path)
     if path.is_dir():
         raise ImageReadError(f"{path} is a folder, not an image file")
+    if path.exists() and not path.is_file():  # opening a pipe would wait for a writer
+        raise ImageReadError(f"{path}: not a regular file (a pipe, socket or device); give an "
+                             "image file")
     try:
         with open(path, "rb") as f:
             head = f.read(8)
