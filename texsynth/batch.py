@@ -338,7 +338,10 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         summary.skipped = len(jobs) - len(todo)
         report(summary.skipped / max(len(jobs), 1),
                f"{summary.skipped} of {len(jobs)} already done")
-        if todo:
+        if todo:  # the longest first (predicted): the last task to end is a short one, so
+            # no worker idles long while another finishes a long one (LPT, Graham 1969)
+            order = sorted(range(len(todo)), key=lambda i: -(todo[i].forecast or (0.0,))[0])
+            todo, keys = [todo[i] for i in order], [keys[i] for i in order]
             _submit(todo, keys, summary, client if client is not None else starter.client(),
                     report)
         ended = True
