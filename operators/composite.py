@@ -23,7 +23,7 @@ import numpy as np
 from .. import texsynth
 from ..texsynth import composite, segmentation
 from . import nodes, output, pixels, properties, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 METHOD = "composite"
 
@@ -128,8 +128,8 @@ class TEXSYNTH_OT_synthesize_composite(JobOperator, bpy.types.Operator):
         params = properties.param_values(self, method)
         width, height = texsynth.validation.size(width, height)  # refused before the forecast
         predicted, _ = texsynth.budget.forecast(METHOD, exemplar.shape, width, height, params)
-        job = Job(composite.compose, exemplar, width, height, labels=labels,
-                  output_labels=layout, seed=self.seed, predicted=predicted, **params)
+        job = Task(composite.compose, exemplar, width, height, labels=labels,
+                   output_labels=layout, seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
 
     def make(self, result, plan):

@@ -1,4 +1,5 @@
-"""Long work for an operator: a :class:`Job` (numpy only, never bpy) and :class:`JobOperator`.
+"""Long work for an operator: a :class:`Task` (numpy only, never bpy) and
+:class:`JobOperator`.
 
 ``JobOperator.execute()`` runs the job synchronously: in background mode (``blender -b``, the
 bpy module), from scripts and from the redo panel. ``invoke()`` (a panel's button) in the UI runs
@@ -19,7 +20,7 @@ from . import output
 POLL_SECONDS = 0.1
 
 
-class Job:
+class Task:
     """Runs ``function(*args, progress=..., **kwargs)`` and keeps its progress, result, error or
     cancellation; ``predicted`` (seconds, ``texsynth.budget.forecast``) starts the time left.
 
@@ -40,13 +41,10 @@ class Job:
         self.left = TimeLeft(predicted)
 
     def time_left(self, now: float | None = None) -> str:
-        """The time still to go (", about 3 min left"), as the command line's bar tells it
-        (``texsynth.progress.TimeLeft``: the predicted seconds, then the fraction done), or ""
-        while there is nothing to go on."""
-        seconds = self.left.seconds(self.fraction, now)
-        if seconds is None or self.fraction >= 1.0:
-            return ""
-        return f", about {texsynth.budget.describe(seconds)} left"
+        """The time still to go (", 3:00 left"), told as the command line's bar tells it
+        (``texsynth.progress.TimeLeft.text``), or "" while there is nothing to go on."""
+        told = self.left.text(self.fraction, now)
+        return f", {told}" if told else ""
 
     def run(self) -> None:
         function, args, kwargs = self._call
@@ -80,7 +78,8 @@ class Job:
 
 
 class JobOperator:
-    """Mixin for an operator (``class X(JobOperator, bpy.types.Operator)``) whose work is a Job.
+    """Mixin for an operator (``class X(JobOperator, bpy.types.Operator)``) whose work is a
+    :class:`Task`.
 
     The operator defines ``prepare(context) -> (job, plan)``, which checks everything and copies
     the pixels out of Blender (raising ``ValueError``), and ``make(result, plan) -> str``, which

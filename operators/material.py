@@ -21,7 +21,7 @@ import bpy
 
 from .. import texsynth
 from . import output, properties, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 MODE_ITEMS = (
     ("GUIDED", "Guided", "Synthesize each map guided by the active one (Neubeck et al. 2004, "
@@ -85,9 +85,9 @@ class TEXSYNTH_OT_synthesize_material(JobOperator, bpy.types.Operator):
     def prepare(self, context):
         """Check everything and copy every map out of Blender; raises ``ValueError``."""
         src, method, maps = material_maps(self, context)
-        job = Job(texsynth.synthesize_stack, [m[1] for m in maps], self.width, self.height,
-                  support=0, method=method.name, seed=self.seed, mode=self.mode.lower(),
-                  c=self.support_weight, **properties.param_values(self, method))
+        job = Task(texsynth.synthesize_stack, [m[1] for m in maps], self.width, self.height,
+                   support=0, method=method.name, seed=self.seed, mode=self.mode.lower(),
+                   c=self.support_weight, **properties.param_values(self, method))
         return job, (src, context.active_object.name, maps)
 
     def make(self, result, plan):

@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import texsynth
 from . import estimate, output, pixels, properties, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 #: What the panel says under its button: what the operator does and what it wants.
 HINT = "A photo of a flat surface: rectify, heal, delight, tile, maps"
@@ -102,9 +102,9 @@ class TEXSYNTH_OT_photo_to_material(JobOperator, bpy.types.Operator):
         out = size or values.shape[1::-1]
         seconds += output.predict_seconds(values.shape[0] * values.shape[1],
                                           5 * out[0] * out[1], self.output)
-        job = Job(texsynth.material.photo_to_material, values, size=size, mask=mask,
-                  corners=corners, focal_px=focal, steps=steps, seed=self.seed,
-                  predicted=seconds)
+        job = Task(texsynth.material.photo_to_material, values, size=size, mask=mask,
+                   corners=corners, focal_px=focal, steps=steps, seed=self.seed,
+                   predicted=seconds)
         obj = context.active_object
         return job, (src, obj.name if obj else "", base, encoding)
 

@@ -13,7 +13,7 @@ import bpy
 
 from .. import texsynth
 from . import nodes, output, pixels, properties, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 
 @properties.registry_settings()
@@ -49,8 +49,8 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
                            seed=self.seed, **params)  # refused here, before the forecast
         predicted, _ = texsynth.budget.forecast(method.name, exemplar.shape, self.width,
                                                 self.height, params)
-        job = Job(texsynth.synthesize, exemplar, self.width, self.height, method=method.name,
-                  seed=self.seed, predicted=predicted, **params)
+        job = Task(texsynth.synthesize, exemplar, self.width, self.height, method=method.name,
+                   seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
 
     def make(self, result, plan):

@@ -14,7 +14,7 @@ import bpy
 
 from .. import texsynth
 from . import nodes, output, properties, source
-from .job import Job, JobOperator
+from .job import JobOperator, Task
 
 #: The name given to the results: ``<image>_tileable_<seed>``.
 SUFFIX = "tileable"
@@ -60,8 +60,8 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
         band, _ = texsynth.tileable.check(maps[0][1].shape, band=self.band or None,
                                           seed=self.seed)  # refused here, before the forecast
         predicted, _ = texsynth.tileable.predict(maps[0][1].shape, band)
-        job = Job(_tile_all, maps[0][1], [m[1] for m in maps[1:]], band=self.band or None,
-                  seed=self.seed, predicted=predicted)
+        job = Task(_tile_all, maps[0][1], [m[1] for m in maps[1:]], band=self.band or None,
+                   seed=self.seed, predicted=predicted)
         return job, (src, maps)
 
     def make(self, result, plan):

@@ -4,6 +4,7 @@ The Dask tests skip cleanly when ``distributed`` is not installed (``dask[distri
 requirements-dev.txt).
 """
 
+import dataclasses
 import os
 import signal
 import threading
@@ -181,3 +182,31 @@ def test_a_task_run_again_after_its_worker_died_counts_once(tmp_path, monkeypatc
     monkeypatch.setattr(distributed, "as_completed", again)
     summary = batch.run(jobs, client=client)
     assert (summary.done, summary.skipped, summary.failed) == (3, 0, [])
+
+
+def test_the_longest_predicted_tasks_are_handed_to_dask_first(tmp_path, monkeypatch):
+    """Largest first (LPT): the last task to end is a short one, no worker idles long."""
+    distributed = pytest.importorskip("distributed")
+    planned = batch.plan(_photos(tmp_path / "in", 3), tmp_path / "out",
+                         batch.Defaults(size=(SIZE, SIZE)))
+    jobs = [dataclasses.replace(job, forecast=(s, 1.0))
+            for job, s in zip(planned, (1, 9, 4), strict=True)]
+
+    class Client:
+        def map(self, function, todo, job_keys, key, pure):
+            self.order = [job.forecast[0] for job in todo]
+            return [Finished(k) for k in key]
+
+    class Finished:
+        status = "finished"
+
+        def __init__(self, key):
+            self.key = key
+
+        def result(self):
+            return "done"
+
+    client = Client()
+    monkeypatch.setattr(distributed, "as_completed", lambda futures: futures)
+    batch.run(jobs, client=client)
+    assert client.order == [9, 4, 1]

@@ -2,6 +2,7 @@
 over an input, write two outputs to one file or feed a folder's outputs back in; every error is
 one line with its exit code; resume redoes an output whose bytes changed."""
 
+import os
 import signal
 import subprocess
 import sys
@@ -124,6 +125,7 @@ def test_a_write_that_fails_midway_leaves_no_output_at_all(tmp_path, capsys, mon
     (lambda p: p.write_bytes(p.read_bytes()[:200]), 3, "photo.png"),  # truncated PNG
     (lambda p: p.write_bytes(b"\x76\x2f\x31\x01"), 3, "photo.png"),  # an EXR's magic alone
     (lambda p: (p.unlink(), p.mkdir()), 3, "is a folder"),
+    (lambda p: (p.unlink(), os.mkfifo(p)), 3, "not a regular file"),  # opening it would hang
 ])
 def test_unreadable_photos_are_one_line_with_exit_3(tmp_path, capsys, make, code, named):
     photo = tmp_path / "photo.png"
@@ -140,6 +142,8 @@ def test_unreadable_photos_are_one_line_with_exit_3(tmp_path, capsys, make, code
     (["--size", "100000"], 2, "100000"),
     (["--seed", "-1"], 2, "seed"),
     (["--bogus"], 2, "--bogus"),
+    (["--in-size", "100000"], 2, "--in-size"),  # the resampled photo over the largest side
+    (["-o", "o.jpg", "--bits", "16"], 2, "--bits 16"),  # a JPEG holds 8 bits
 ])
 def test_argument_errors_are_one_line_with_exit_2(tmp_path, capsys, argv, code, named):
     write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
@@ -158,6 +162,16 @@ def test_an_unwritable_output_is_refused_before_the_work(tmp_path, capsys, monke
     _one_error_line(err, "/proc/x")
 
 
+def test_an_output_name_too_long_for_its_folder_is_refused_before_the_work(tmp_path, capsys,
+                                                                         monkeypatch):
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    monkeypatch.setattr(jobs, "execute", lambda *a, **k: pytest.fail("the work ran"))
+    code, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "-o",
+                        tmp_path / ("x" * 300 + ".png"), *FAST)
+    assert code == 4
+    _one_error_line(err, "the name is 304 bytes long")
+
+
 def test_over_the_time_budget_is_exit_5(tmp_path, capsys, monkeypatch):
     write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
     monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", "0.000001")
@@ -173,6 +187,19 @@ def test_a_manifest_that_is_not_utf8_is_one_line_with_exit_3(lib, tmp_path, caps
     code, _, err = _run(capsys, "batch", lib / "list.csv", "-o", tmp_path / "out")
     assert code == 3
     _one_error_line(err, "list.csv:3: not UTF-8")
+
+
+@pytest.mark.parametrize("text, code, named", [
+    (b"photo,window\ngood.png,5\n", 2, "list.csv:1: unknown column 'window'"),  # ignored before
+    (b"photo\ngood.png\n\0\0\n", 3, "list.csv:3: a NUL byte"),  # was 'embedded null byte'
+])
+def test_a_manifest_with_a_misspelt_column_or_a_nul_byte_is_one_line(lib, tmp_path, capsys,
+                                                                      text, code, named):
+    (lib / "list.csv").write_bytes(text)
+    got, _, err = _run(capsys, "batch", lib / "list.csv", "-o", tmp_path / "out")
+    assert got == code
+    _one_error_line(err, named)
+    assert not (tmp_path / "out").exists()
 
 
 def test_resume_redoes_an_output_whose_bytes_changed_or_whose_code_changed(lib, tmp_path,

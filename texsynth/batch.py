@@ -156,6 +156,11 @@ def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]
             max((peak for _, peak in known), default=0.0) * (workers or default_workers()))
 
 
+#: A manifest's columns (docs/BATCH.md).
+COLUMNS = ("photo", "maps", "operation", "method", "size", "seed", "params", "band", "in_size",
+           "mask", "corners")
+
+
 def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
     try:
         text = path.read_bytes().decode("utf-8-sig")
@@ -164,11 +169,20 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
         raise InputError(f"{path}:{line}: not UTF-8 text; save the manifest as UTF-8") from None
     except OSError as error:
         raise InputError(f"{path}: cannot read ({error.strerror or error})") from None
+    if "\0" in text:  # no path holds one (a binary file or UTF-16 read as UTF-8)
+        line = text[:text.index("\0")].count("\n") + 1
+        raise InputError(f"{path}:{line}: a NUL byte, not text; save the manifest as UTF-8 "
+                         "text") from None
     dialect = "excel-tab" if path.suffix.lower() == ".tsv" or "\t" in text.split("\n")[0] \
         else "excel"
     reader = csv.DictReader(text.splitlines(), dialect=dialect)
     if not reader.fieldnames or "photo" not in [f.strip() for f in reader.fieldnames]:
         raise UsageError(f"{path}: a manifest needs a header row with a 'photo' column")
+    unknown = [f.strip() for f in reader.fieldnames if f.strip() and f.strip() not in COLUMNS]
+    if unknown:  # a misspelt column would be ignored, its values never used
+        raise UsageError(f"{path}:1: unknown column '{unknown[0]}'; the columns are "
+                         f"{', '.join(COLUMNS)} (method parameters go in params, "
+                         "e.g. radius=4;visits=3)")
     rows = []
     for number, row in enumerate(reader, start=2):
         row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
@@ -323,7 +337,10 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         summary.skipped = len(jobs) - len(todo)
         report(summary.skipped / max(len(jobs), 1),
                f"{summary.skipped} of {len(jobs)} already done")
-        if todo:
+        if todo:  # the longest first (predicted): the last task to end is a short one, so
+            # no worker idles long while another finishes a long one (LPT, Graham 1969)
+            order = sorted(range(len(todo)), key=lambda i: -(todo[i].forecast or (0.0,))[0])
+            todo, keys = [todo[i] for i in order], [keys[i] for i in order]
             _submit(todo, keys, summary, client if client is not None else starter.client(),
                     report)
         ended = True

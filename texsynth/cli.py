@@ -123,8 +123,8 @@ class Bar:
             self.last = (tenth, message)
 
     def _left(self, fraction: float) -> str:
-        seconds = self.left.seconds(fraction)
-        return "" if seconds is None or fraction >= 1.0 else f" ({_clock(seconds)} left)"
+        told = self.left.text(fraction)
+        return f" ({told})" if told else ""
 
     def _draw(self, fraction: float, message: str) -> None:
         filled = int(round(fraction * 24))
@@ -140,12 +140,6 @@ class Bar:
             self.stream.write("\n")
             self.stream.flush()
             self.drawn = False
-
-
-def _clock(seconds: float) -> str:
-    seconds = int(round(seconds))
-    h, rest = divmod(seconds, 3600)
-    return f"{h}:{rest // 60:02d}:{rest % 60:02d}" if h else f"{rest // 60}:{rest % 60:02d}"
 
 
 # --- options -------------------------------------------------------------------------------
@@ -566,6 +560,7 @@ def main(argv=None) -> int:
     try:
         args = build_parser().parse_args(argv)
         bar = Bar(quiet=args.quiet)
+        _check_bits(args)
         args.run(args, bar)
     except (Cancelled, KeyboardInterrupt):
         return _fail(bar, "interrupted; nothing half-written is left", 130)
@@ -583,6 +578,19 @@ def main(argv=None) -> int:
         return _fail(bar, f"internal error: {type(error).__name__}: {error} (TEXSYNTH_DEBUG=1 "
                      "shows where; please report it)", JobError.code)
     return 0
+
+
+def _check_bits(args) -> None:
+    """``--bits 16`` with a JPEG output: refused (a JPEG holds 8 bits a sample; without
+    ``--bits`` a 16-bit photo's JPEG is 8 bits, as documented)."""
+    if getattr(args, "bits", None) != 16:
+        return
+    out = getattr(args, "output", None)
+    fmt = getattr(args, "format", None)
+    jpeg = fmt in ("jpg", "jpeg") if fmt else out is not None and \
+        Path(out).suffix.lower() in (".jpg", ".jpeg")
+    if jpeg:
+        raise UsageError("--bits 16: a JPEG holds 8 bits a sample; write .png or .tif for 16")
 
 
 def _fail(bar: Bar, text: str, code: int) -> int:

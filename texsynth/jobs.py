@@ -47,6 +47,7 @@ from .io.files import (
     output_format,
     png_bits,
     read_photo,
+    temp_prefix,
     write_images,
 )
 from .material import pipeline as material
@@ -232,8 +233,9 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
     written: dict = {}
     again = None if source_folder is None else _identity(str(source_folder))[0]
     for job in jobs:
-        for out in job.all_outputs():
-            name = f"{job.origin}: {out}" if job.origin else f"-o {out}"
+        sources = ("-o", *(f"--maps {m} ->" for m in job.maps), "--preview ->")
+        for source, out in zip(sources, job.all_outputs(), strict=False):
+            name = f"{job.origin}: {out}" if job.origin else f"{source} {out}"
             try:
                 output_format(out)
             except ValueError as error:
@@ -244,8 +246,8 @@ def check_plan(jobs: list[Job], source_folder=None) -> None:
                 if part in inputs:
                     raise UsageError(f"{name}: would overwrite the input {inputs[part]}")
                 if part in written:
-                    raise UsageError(f"{name}: the same file as the output {written[part]}; "
-                                     "give the outputs different names")
+                    raise UsageError(f"{name}: the same file as another output, "
+                                     f"{written[part]}; give the outputs different names")
             if (again is not None and Path(out).suffix.lower() in PHOTO_SUFFIXES
                     and _identity(str(Path(out).parent))[0] == again):
                 raise UsageError(f"-o {Path(out).parent}: the outputs would be read as photos "
@@ -329,8 +331,12 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
                                  f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
                                  f"photo's {photo[1]} x {photo[0]}")
         forecasts.append(_check_run(job, in_shape(photo, job.in_size)))
-    for folder in dict.fromkeys(Path(out).parent for job in jobs for out in job.all_outputs()):
-        check_folder(folder)
+    longest: dict[Path, str] = {}
+    for out in (Path(out) for job in jobs for out in job.all_outputs()):
+        if len(out.name.encode()) > len(longest.get(out.parent, "").encode()):
+            longest[out.parent] = out.name
+    for folder, name in longest.items():
+        check_folder(folder, name)
     return forecasts
 
 
@@ -340,6 +346,9 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
     if job.operation not in OPERATIONS:
         raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
                          f"{job.operation!r}")
+    if job.in_size is not None and max(shape[:2]) > validation.MAX_SIDE:
+        raise UsageError(f"{job.at('in-size')}: the photo would be {shape[1]} x {shape[0]}; "
+                         f"at most {validation.MAX_SIDE} pixels a side")
     try:
         if job.operation == "material":
             return _check_material(job, shape)
@@ -365,16 +374,22 @@ def _named(job: Job) -> str:
     return ": ".join(dict.fromkeys(filter(None, (job.origin, job.photo))))
 
 
-def check_folder(folder: Path) -> None:
-    """Make ``folder`` (and its parents) and write and remove a file in it, or
-    :class:`OutputError` naming it: before the work, not after it."""
+def check_folder(folder: Path, name: str = "probe") -> None:
+    """Make ``folder`` (and its parents) and write and remove a file in it, named as
+    :func:`write_outputs` names its temporary files, and check that ``name`` (the folder's
+    longest output) fits the folder's limit on names; :class:`OutputError` naming the folder
+    or file: before the work, not after it."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=TEMP_PREFIX + "probe-", dir=folder)
+        fd, probe = tempfile.mkstemp(prefix=temp_prefix(Path(name)), dir=folder)
         os.close(fd)
         os.unlink(probe)
+        longest = os.pathconf(folder, "PC_NAME_MAX")
     except OSError as error:
         raise OutputError(f"{folder}: cannot write there ({error.strerror or error})") from None
+    if len(name.encode()) > longest:
+        raise OutputError(f"{folder / name}: the name is {len(name.encode())} bytes long, over "
+                          f"the {longest} this folder allows; choose a shorter one")
 
 
 # --- 3. the work ----------------------------------------------------------------------------

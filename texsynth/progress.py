@@ -124,3 +124,21 @@ class TimeLeft:
         if f == 0.0:
             return max(self.predicted - elapsed, 0.0)
         return (elapsed + self.PRIOR * self.predicted) / (f + self.PRIOR) * (1.0 - f)
+
+    def text(self, fraction: float, now: float | None = None) -> str:
+        """The time left as the command line's bar and Blender's status line show it:
+        ``"2:05 left"`` (``"1:02:05 left"`` past an hour), or "" while :meth:`seconds` has
+        nothing to go on and once done.
+
+        Examples
+        --------
+        >>> left = TimeLeft(predicted=125.0, clock=lambda: 0.0)
+        >>> left.text(0.0), left.text(1.0)
+        ('2:05 left', '')
+        """
+        seconds = self.seconds(fraction, now)
+        if seconds is None or fraction >= 1.0:
+            return ""
+        h, rest = divmod(int(round(seconds)), 3600)
+        clock = f"{h}:{rest // 60:02d}:{rest % 60:02d}" if h else f"{rest // 60}:{rest % 60:02d}"
+        return f"{clock} left"

@@ -17,7 +17,7 @@ interface, which is all this operator calls:
 
 * ``ITEM``: the Mode enum's item; ``SETTINGS``: the operator settings its redo panel shows;
   ``DONE``: the report's verb;
-* ``prepare(op, src, nodes) -> Job``: check every map and copy it out of Blender
+* ``prepare(op, src, nodes) -> Task``: check every map and copy it out of Blender
   (``ValueError`` on bad input, nothing made);
 * ``scale(op, result)``: the value of the shared Scale node;
 * ``groups(op, result, nodes)``: one new node group per source node, in order;

@@ -36,7 +36,7 @@ import numpy as np
 from ... import texsynth
 from ...texsynth.norepeat import GRID_SCALE, gaussianize
 from ...texsynth.norepeat.gaussian import MU
-from ..job import Job
+from ..job import Task
 from .maps import shader_maps
 from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
 
@@ -55,7 +55,7 @@ SUFFIXES = ("tnb_gaussian",)
 def prepare(op, src, nodes):
     """The job that Gaussianises every map (``op``: the operator, its settings)."""
     maps, _ = shader_maps(nodes)
-    return Job(precompute, [values for _, values in maps])
+    return Task(precompute, [values for _, values in maps])
 
 
 def precompute(maps, progress=None):

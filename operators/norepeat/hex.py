@@ -27,7 +27,7 @@ Blender's White Noise, so renders match the reference in their statistics, not p
 
 from ...texsynth.norepeat import GRID_SCALE, rotation_symmetry
 from ...texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
-from ..job import Job
+from ..job import Task
 from .blend import triangle_grid
 from .maps import shader_maps
 from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
@@ -59,8 +59,8 @@ def prepare(op, src, nodes):
     maps, normals = shader_maps(nodes)
     turns = TURN_COUNTS.get(op.turns)
     image = maps[0][1]
-    return Job(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
-                                      else turns))
+    return Task(lambda progress=None: (normals, rotation_symmetry(image) if turns is None
+                                       else turns))
 
 
 def scale(op, result):

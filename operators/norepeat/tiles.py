@@ -32,7 +32,7 @@ from ... import texsynth
 from ...texsynth.norepeat import predict_tiles_memory, wang_tiles
 from ...texsynth.norepeat.tiles import COLOURS, MIN_TILE, default_tile
 from .. import pixels
-from ..job import Job
+from ..job import Task
 from .maps import check_opaque
 from .nodes import finish_group, new_group, opaque_alpha, shared_group, stem
 
@@ -58,7 +58,7 @@ def prepare(op, src, nodes):
                              f"like '{src.image}': Tile Set needs the maps of one size")
     check(nodes[0].image, len(nodes), op.colours)
     maps = [check_opaque(node.image, pixels.read_exemplar(node.image)[0]) for node in nodes]
-    return Job(precompute, maps, colours=op.colours, seed=op.seed)
+    return Task(precompute, maps, colours=op.colours, seed=op.seed)
 
 
 def check(image, maps, colours):

@@ -83,19 +83,19 @@ def test_synthesize_from_a_large_photo_in_a_node(addon):
 
 def test_esc_during_a_12_megapixel_make_tileable_leaves_the_file_as_it_was(addon, monkeypatch,
                                                                            photo_12mp):
-    """Esc (Job.cancel, as the modal handler calls it) two seconds into the run: the operator
+    """Esc (Task.cancel, as the modal handler calls it) two seconds into the run: the operator
     is cancelled, no image or node is made, the photo is untouched. Needs the make_tileable
     rewrite (before it, the run is refused at once)."""
     material_with(generated_image(photo_12mp, name="photo"))
     job = addon.operators.job
-    run, jobs = job.Job.run, []
+    run, jobs = job.Task.run, []
 
     def run_and_press_esc(self):
         jobs.append(self)
         threading.Timer(ESC_AFTER, self.cancel).start()
         run(self)
 
-    monkeypatch.setattr(job.Job, "run", run_and_press_esc)
+    monkeypatch.setattr(job.Task, "run", run_and_press_esc)
     before = fingerprint()
 
     assert bpy.ops.texsynth.make_tileable() == {"CANCELLED"}

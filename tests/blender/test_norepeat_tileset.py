@@ -114,18 +114,18 @@ def test_an_unlinked_vector_becomes_the_uv_map_for_tile_set_too():
 
 
 def test_esc_during_the_tiles_makes_nothing(addon, monkeypatch):
-    """Esc pressed before the worker's first progress report (Job.cancel, as the modal handler
+    """Esc pressed before the worker's first progress report (Task.cancel, as the modal handler
     calls it): the tiles stop, the operator is cancelled and the file is as it was."""
     material_with(generated_image(bricks()))
     job = addon.operators.job
-    run, jobs = job.Job.run, []
+    run, jobs = job.Task.run, []
 
     def run_after_esc(self):
         jobs.append(self)
         self.cancel()
         run(self)
 
-    monkeypatch.setattr(job.Job, "run", run_after_esc)
+    monkeypatch.setattr(job.Task, "run", run_after_esc)
     before = fingerprint()
     assert bpy.ops.texsynth.break_repetition(mode="TILE_SET") == {"CANCELLED"}
     (esc,) = jobs

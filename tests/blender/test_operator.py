@@ -273,7 +273,7 @@ def _wait(condition, seconds=60.0):
 
 
 def test_the_worker_thread_reports_progress_and_cancels(addon):
-    job_class, run = addon.operators.job.Job, addon.texsynth.synthesize
+    job_class, run = addon.operators.job.Task, addon.texsynth.synthesize
     job = job_class(run, noise(64, 64), 256, 256, iterations=100)
     job.start()
     _wait(lambda: job.fraction > 0 or job.done)
@@ -292,11 +292,11 @@ def test_the_worker_thread_reports_progress_and_cancels(addon):
 
 
 def test_a_long_run_tells_the_time_left_from_its_progress(addon):
-    job = addon.operators.job.Job(lambda progress: None)
+    job = addon.operators.job.Task(lambda progress: None)
     job.left.start, job.fraction = 100.0, 0.005
     assert job.time_left(now=101.0) == ""  # too early to say
     job.fraction = 0.25
-    assert job.time_left(now=160.0) == ", about 3 min left"  # 60 s for a quarter: 180 s to go
-    job = addon.operators.job.Job(lambda progress: None, predicted=600.0)
+    assert job.time_left(now=160.0) == ", 3:00 left"  # 60 s for a quarter: 180 s to go
+    job = addon.operators.job.Task(lambda progress: None, predicted=600.0)
     job.left.start = 100.0
-    assert job.time_left(now=160.0) == ", about 9 min left"  # the prediction, counted down
+    assert job.time_left(now=160.0) == ", 9:00 left"  # the prediction, counted down

@@ -141,9 +141,10 @@ EXEMPLAR_ROWS = 64
 COHERENT_COST = 0.56
 #: Work, in free queries, per exemplar location of a level (its projection and index), per
 #: exemplar pixel analysed and per output pixel collapsed: the shares of the progress (their
-#: times over the finest level's queries at 256^2 -> 512^2 and 1024^2 -> 1024^2; the index
-#: 0.085-0.38, a level's fixed cost weighing more on small ones).
-INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 0.15, 0.036, 0.036
+#: CPU times over the same levels' queries, median of 3 warm runs at 128^2 -> 256^2, 256^2 ->
+#: 512^2 and 512^2 -> 1024^2: the index 0.25-0.67 a location, the analysis 0.09-0.1, the
+#: collapse 0.03; 0.15 for the index told 1.65x the time left at 10 % of 256^2 -> 512^2).
+INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 0.5, 0.09, 0.036
 
 
 def _per_channel(level: int, top: int, orientations: int) -> int:
@@ -474,9 +475,12 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
 
     scale = {}
-    ends = np.cumsum([0.0] + level_work(ex_shapes, out_shapes)[::-1])
+    work = level_work(ex_shapes, out_shapes)
+    ends = np.cumsum([0.0] + work[::-1])
     ends /= max(ends[-1], 1.0)                    # no level to sample: no shares
     for level in range(top - 1, -1, -1):
+        # the level's index first, its queries after: the sampling's ticks start past its share
+        indexed = INDEX_WORK * ex_shapes[level][0] * ex_shapes[level][1] / work[level]
         step = progress.span(ends[top - 1 - level], ends[top - level])
         message = f"level {level + 1} of {top}: indexing the exemplar"
         for a in range(level + 1, min(level + depth, top) + 1):
@@ -489,7 +493,7 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
                                              lambda s=step, m=message: s(0.0, m)),
                               eps=EPS, nearest_eps=NEAREST_EPS,
                               indexed=tiled_subset(ex_shapes[level], TREE_POINTS))
-        step(0.0, f"level {level + 1} of {top}: sampling")
+        step(indexed, f"level {level + 1} of {top}: sampling")
         sampler.radius = threshold * sampler.spacing()
         h, w = out_shapes[level]
         src = np.empty(h * w, np.int32)
@@ -502,7 +506,8 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
                 src[rows] = sampler.draw_among(queries, candidates, rng)
             else:
                 src[rows] = sampler.draw(queries, rng)
-            step(rows[-1] / (h * w), f"level {level + 1} of {top}")
+            step(indexed + (1.0 - indexed) * (rows[-1] + 1) / (h * w),
+                 f"level {level + 1} of {top}")
         sources[level] = src.reshape(h, w)
         del space, sampler               # the next level's table is built without them
     return sources

@@ -51,9 +51,12 @@ __all__ = ["random_phase", "METHOD"]
 
 #: Values of a channel the histogram matching keeps (every one up to a 1024^2 photo).
 SAMPLES = 1 << 20
-#: The random phase's draw and transform in a channel's time (1.3-2.8 at 128^2-1024^2 ->
-#: 1024^2-2048^2): its share of the progress.
-PHASE = 2.0
+#: Shares of the progress in a later channel's time (CPU clock, median of 5 warm runs at
+#: 128^2 -> 1024^2, 256^2 -> 2048^2, 512^2 -> 1024^2, 1024^2 -> 2048^2): the random phase's
+#: draw and transform (0.84, 0.64, 0.63, 0.67), a channel's transforms (0.57, 0.72, 0.56, 0.66
+#: of it; its histogram matching the rest) and what the first channel costs more, writing the
+#: output's pages for the first time (1.61, 1.41, 1.32, 3.49 a later channel's time).
+PHASE, TRANSFORM, FIRST_WRITE = 0.65, 0.6, 0.5
 
 
 def random_phase(exemplar, width, height, rng, progress):
@@ -89,11 +92,13 @@ def random_phase(exemplar, width, height, rng, progress):
     y, x = (h - m_) // 2, (w - n_) // 2
     crop = exemplar[y:y + m_, x:x + n_]
     whole = (m_, n_) == (height, width)                # the spot fills the output: s~ = p - m
-    # Fractions by the work of each step, in a channel's transforms and matching: the crop's
-    # periodic component C crop / output, the phase's noise and transform PHASE.
+    # Fractions by the work of each step, in a later channel's time: the crop's periodic
+    # component C crop / output, the phase's noise and transform, each channel's transforms and
+    # matching (the first one's writing the output's pages too).
     steps = np.cumsum([0.0 if whole else channels * m_ * n_ / (width * height), PHASE]
-                      + [1.0] * channels)
-    steps /= steps[-1]
+                      + [TRANSFORM, 1.0 - TRANSFORM + FIRST_WRITE]
+                      + [TRANSFORM, 1.0 - TRANSFORM] * (channels - 1))
+    steps /= steps[-1]                                 # steps[2 c + 2]: channel c transformed
     progress(0.0, "the exemplar's periodic component")
     if not whole:
         p = periodic_component(crop)
@@ -109,6 +114,7 @@ def random_phase(exemplar, width, height, rng, progress):
     spectrum[0, 0] = 1.0                               # theta(0) = 0: the mean is m
     np.divide(spectrum, np.abs(spectrum), out=spectrum, where=spectrum != 0)  # e^(i theta)
     out = np.empty((height, width, channels), np.float32)
+    progress(steps[1], "random phase drawn")
     for c in range(channels):
         if whole:  # F(p) from u's transform and the border's 1-D ones; frequency 0 is m M N
             modulated = periodic_spectrum(crop[:, :, c])
@@ -122,8 +128,9 @@ def random_phase(exemplar, width, height, rng, progress):
         modulated *= spectrum
         image = fft.irfft2(modulated, (height, width))
         image += mean
+        progress(steps[2 * c + 2], f"channel {c + 1}/{channels}: matching its histogram")
         out[:, :, c] = match(image, TargetHistogram(values[:, c]))
-        progress(steps[c + 2], f"channel {c + 1}/{channels}")
+        progress(steps[2 * c + 3], f"channel {c + 1}/{channels}")
     return out
 
 

@@ -23,6 +23,7 @@ from .files import (
     output_format,
     png_bits,
     read_photo,
+    temp_prefix,
     write_image,
     write_images,
 )
@@ -32,4 +33,4 @@ from .png import read_png, write_png
 __all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "ImageWriteError",
            "write_image", "write_images", "output_format", "png_bits", "is_linear", "encode",
            "SUFFIXES", "TEMP_PREFIX", "exif_orientation", "orient", "read_exr", "write_exr",
-           "read_png", "write_png"]
+           "read_png", "write_png", "temp_prefix"]

@@ -31,7 +31,7 @@ from .orientation import TURNED, exif_orientation, orient
 
 __all__ = ["read_photo", "image_size", "check_finite", "ImageReadError", "ImageWriteError",
            "write_image", "write_images", "output_format", "png_bits", "is_linear", "encode",
-           "TEMP_PREFIX", "SUFFIXES"]
+           "TEMP_PREFIX", "SUFFIXES", "temp_prefix"]
 
 #: Temporary files of :func:`write_image` start with this (a batch removes stale ones).
 TEMP_PREFIX = ".texsynth-tmp-"
@@ -158,6 +158,9 @@ def _kind(path) -> str:
     path = Path(path)
     if path.is_dir():
         raise ImageReadError(f"{path} is a folder, not an image file")
+    if path.exists() and not path.is_file():  # opening a pipe would wait for a writer
+        raise ImageReadError(f"{path}: not a regular file (a pipe, socket or device); give an "
+                             "image file")
     try:
         with open(path, "rb") as f:
             head = f.read(8)
@@ -329,7 +332,7 @@ def write_image(path, image, bits: int = 8, *, atomic: bool = True) -> None:
     if not atomic:
         _write(kind, path, a, bits)
         return
-    fd, temp = tempfile.mkstemp(prefix=TEMP_PREFIX + path.stem + "-", suffix=path.suffix,
+    fd, temp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=path.suffix,
                                 dir=path.parent)
     os.close(fd)
     try:
@@ -338,6 +341,19 @@ def write_image(path, image, bits: int = 8, *, atomic: bool = True) -> None:
     except BaseException:
         Path(temp).unlink(missing_ok=True)
         raise
+
+
+def temp_prefix(path: Path) -> str:
+    """The start of the temporary name an output of ``path`` is written under before its
+    rename: :data:`TEMP_PREFIX` and its stem cut short (a name near the folder's limit still
+    has room for the prefix and the random part).
+
+    Examples
+    --------
+    >>> temp_prefix(Path("out/" + "a" * 200 + ".png")) == TEMP_PREFIX + "a" * 48 + "-"
+    True
+    """
+    return f"{TEMP_PREFIX}{path.stem[:48]}-"
 
 
 def write_images(files, bits: int = 8) -> None:
@@ -361,7 +377,7 @@ def write_images(files, bits: int = 8) -> None:
     try:
         for path, image in files:
             path = Path(path)
-            fd, temp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.stem}-", suffix=path.suffix,
+            fd, temp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=path.suffix,
                                         dir=path.parent)
             os.close(fd)
             temps.append(temp)
