@@ -150,6 +150,14 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     the image centre (one output pixel = one image pixel along the foreshortened direction); its
     x and y axes are the plane's, which :func:`camera_pose` puts on the plane object's X and Y.
 
+    Each output pixel is sampled once (bilinear) from the photo filtered to its footprint: s,
+    the longer side in photo pixels of the pixel's footprint under the homography's Jacobian,
+    picks a Gaussian of variance (s^2 - 1) / 12 (a box of s pixels' less the one pixel's the
+    photo already averages), from levels s = 2^(k/2) blended linearly in 2 log2 s (as a
+    mipmap's levels, Williams 1983, here unsubsampled), so the cost follows the output's
+    pixels, not a supersampling of the whole photo. Ours: one isotropic filter per pixel (the
+    footprint's longer side), not an elliptical one (Heckbert 1989).
+
     Parameters
     ----------
     image : array (H, W) or (H, W, C), top row first
@@ -167,7 +175,9 @@ def rectify(image, estimate: PlaneEstimate, size: tuple[int, int] | None = None)
     References
     ----------
     Forsyth & Ponce, section 11.4.1 (the plane's image under orthographic and perspective
-    projection, inverted here).
+    projection, inverted here); Williams 1983, "Pyramidal parametrics" (levels of prefiltered
+    images blended by the footprint); Heckbert 1989, "Fundamentals of texture mapping and image
+    warping", 3.5 (the footprint from the Jacobian).
 
     Examples
     --------
