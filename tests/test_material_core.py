@@ -26,6 +26,25 @@ def test_delight_takes_out_a_ramp_and_keeps_the_detail():
     assert np.array_equal(out, delight(albedo * ramp))
 
 
+def test_delight_divides_the_light_out_of_an_srgb_photo_in_linear_light():
+    # A photo as a camera writes it: the light multiplies linear radiance, then sRGB encodes.
+    # Divided in linear light the detail of the dark side comes back at the albedo's contrast;
+    # the encoded values divided as they are keep it off there (the curve is no product).
+    from texsynth.blocks.color import linear_to_srgb, srgb_to_linear
+
+    albedo = _albedo()
+    light = np.exp(np.linspace(-1.6, 0.2, albedo.shape[1], dtype=np.float32))[None, :, None]
+    photo = linear_to_srgb(srgb_to_linear(albedo) * light)
+    dark = np.s_[:, : albedo.shape[1] // 4]
+
+    def contrast(out):  # over the albedo's, on the dark quarter
+        return float(out[dark].std() / out[dark].mean()) / float(
+            albedo[dark].std() / albedo[dark].mean())
+
+    decoded, as_is = contrast(delight(photo)), contrast(delight(photo, encoded=False))
+    assert abs(decoded - 1) < 0.05 < abs(as_is - 1)
+
+
 def test_heal_fills_only_the_mask_and_as_sharp():
     photo = _albedo(80, seed=1)
     mask = np.zeros(photo.shape[:2], bool)

@@ -43,7 +43,8 @@ TOLERANCE = 2.0 ** -10
 MAX_SWEEPS = 12
 
 
-def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarray:
+def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step,
+             readable: np.ndarray | None = None) -> np.ndarray:
     """v_pq for output pixels p and their neighbours q = p + ``step``, which show the ``source``
     pixels at positions ``p`` and ``q`` (int, (..., 2) (row, col)). Pixels of one piece (q =
     p + step in the source) get their own difference. Across a cut, each piece offers its own
@@ -52,6 +53,8 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarr
     actually shown, source[q] - source[p] (per channel; 0 if neither is inside): an edge shown
     on the cut is kept (a joint beside it), an edge of a pixel the cut left out is not (a
     ledge beyond it), and the step between the pieces' levels is no piece's gradient.
+    ``readable`` (bool (H, W), optional): the source pixels whose values may be read; a
+    candidate that reads another (a blemish under a heal's mask) is not offered.
 
     Examples
     --------
@@ -61,6 +64,9 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarr
     >>> q = np.array([[0, 1], [1, 3], [0, 3], [0, 0]])
     >>> guidance(source, p, q, (0, 1))[:, 0].tolist()
     [1.0, 3.0, 1.0, 0.0]
+    >>> readable = np.ones((3, 4), bool); readable[1, 2] = False  # (1, 2) under a mask
+    >>> guidance(source, p, q, (0, 1), readable)[:, 0].tolist()  # q's own gradient read it
+    [1.0, 1.0, 1.0, 0.0]
     """
     h, w = source.shape[:2]
     dy, dx = step
@@ -75,6 +81,10 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step) -> np.ndarr
     p, q, at_p, at_q, shown = p[cut], q[cut], at_p[cut], at_q[cut], v[cut]
     has_after = (p[:, 0] + dy < h) & (p[:, 1] + dx < w)
     has_before = (q[:, 0] >= dy) & (q[:, 1] >= dx)
+    if readable is not None:
+        ok = np.asarray(readable, bool).reshape(-1)
+        has_after &= ok[np.minimum(at_p + offset, h * w - 1)]
+        has_before &= ok[np.maximum(at_q - offset, 0)]
     v_p = np.take(flat, np.minimum(at_p + offset, h * w - 1), axis=0) - np.take(flat, at_p, axis=0)
     v_q = np.take(flat, at_q, axis=0) - np.take(flat, np.maximum(at_q - offset, 0), axis=0)
     # A candidate outside the source is never the nearer (one inside is taken; else 0).

@@ -26,7 +26,11 @@ Deviations, one line each:
 - the fit is made on every f-th pixel of every f-th row for the least f that brings the photo
   under ``SAMPLE_PIXELS`` (the field is smooth, (2K + 1)^2 coefficients), then evaluated at
   every pixel;
-- the light's colour is not estimated (white balance is the camera's): only luminance is fitted.
+- the light's colour is not estimated (white balance is the camera's): only luminance is fitted;
+- an sRGB-encoded photo is decoded first (light multiplies linear radiance; the encoding's
+  curve makes it no product there, so a division there left the detail of the dark, vignetted
+  corners off: detail correlation 0.975-0.992 under the section's spot light, 0.981-0.996
+  decoded; 11 -> 14 of its 15 cases within both goals).
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import validation
-from ..blocks.color import luminance
+from ..blocks.color import linear_to_srgb, luminance, srgb_to_linear
 from ..progress import Progress
 
 __all__ = ["delight", "light_field"]
@@ -100,7 +104,7 @@ def light_field(photo: np.ndarray, *, order: int = ORDER) -> np.ndarray:
     return light @ _basis(w, 2 * k).T.astype(np.float32)
 
 
-def delight(photo, *, order: int = ORDER, seed: int | None = None,
+def delight(photo, *, order: int = ORDER, encoded: bool = True, seed: int | None = None,
             progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """``photo`` (H, W) or (H, W, C) with its light taken out: every colour channel divided by
     the light's smooth field (:func:`light_field`), the mean level and colour kept; alpha
@@ -108,9 +112,12 @@ def delight(photo, *, order: int = ORDER, seed: int | None = None,
 
     Parameters
     ----------
-    photo : array (H, W) or (H, W, C), linear-ish values in [0, 1] as texsynth reads photos.
+    photo : array (H, W) or (H, W, C), values in [0, 1] as texsynth reads photos.
     order : the light's highest radial order K (0 takes out nothing, 1 a ramp, 2-4 vignetting,
         a spot light's pool and soft shadows).
+    encoded : the photo's values are sRGB-encoded (``texsynth.io.read_photo`` of a PNG or
+        JPEG): the light is fitted and divided out in linear light, where it multiplies, and
+        the result encoded again; False: the values are linear (an EXR) and used as they are.
     seed : unused (the fit is deterministic); accepted as every step of the material takes one.
     progress : ``progress(fraction, message)``; returning False cancels (``Cancelled``).
 
@@ -137,10 +144,14 @@ def delight(photo, *, order: int = ORDER, seed: int | None = None,
     a = validation.image(given, what="photo", channels=None)
     report = Progress(progress)
     report(0.0, "Delight: fitting the light")
-    gain = np.exp(-light_field(a, order=order))[:, :, None]
-    report(0.7, "Delight: dividing it out")
-    out = a.copy()
     colour = min(3, a.shape[2]) if a.shape[2] != 2 else 1
+    out = np.array(a, dtype=np.float32)
+    if encoded:
+        out[:, :, :colour] = srgb_to_linear(out[:, :, :colour])
+    gain = np.exp(-light_field(out, order=order))[:, :, None]
+    report(0.7, "Delight: dividing it out")
     out[:, :, :colour] *= gain
+    if encoded:
+        out[:, :, :colour] = linear_to_srgb(out[:, :, :colour])
     report(1.0, "Delight: done")
     return out.reshape(given.shape) if given.ndim == 2 else out

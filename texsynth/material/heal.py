@@ -29,7 +29,13 @@ Deviations, one line each:
 - no minimum error boundary cut (Efros & Freeman 2.1): a patch fills only the pixels still
   unknown, its edge with the earlier ones and the photo where the SSD placed it; the guided
   interpolation then takes out the step of level there (the pieces' gradients, not their
-  difference, guide it);
+  difference, guide it). A graph cut (Kwatra et al. 2003, 3.1) letting each patch take over
+  earlier ones where they agree was tried and measured worse (the section's 12 cases at seeds
+  0 and 1: 7 and 6 within both goals against 8 and 9 without: more, shorter cuts in a small
+  region left its gradient ratio at 0.81-0.85 on the thin blemishes);
+- the guidance never reads the photo under the mask (the blemish): a piece's gradient that
+  would (the photo's own pixel next to the boundary, a patch taken beside the mask) is not
+  offered (``guidance``'s ``readable``);
 - the correction is clipped to the photo's range in each channel.
 """
 
@@ -187,8 +193,8 @@ def _fill(source, hole, valid, p, rng, report):
         best = best[flat[best] <= flat[best].min() * (1 + TOLERANCE) + 1e-12]
         si, sj = np.unravel_index(int(rng.choice(np.sort(best))), ssd.shape)
         patch = source[si:si + p, sj:sj + p]
-        new = ~known
         o, pos = out[window], positions[window]
+        new = ~known
         o[new] = patch[new]
         pos[new] = (np.moveaxis(np.indices((p, p), np.int32), 0, 2) + [si, sj])[new]
         filled[window] = True
@@ -211,7 +217,7 @@ def _blend(source, out, positions, hole):
         # Every pair (a, b = a + step) with a pixel in the hole; g = f_b - f_a of the pieces.
         ai, aj = np.nonzero(hole[:h - di, :w - dj] | hole[di:, dj:])
         bi, bj = ai + di, aj + dj
-        g = guidance(source, positions[ai, aj], positions[bi, bj], (di, dj))
+        g = guidance(source, positions[ai, aj], positions[bi, bj], (di, dj), ~hole)
         ka, kb = index[ai, aj], index[bi, bj]
         for k, other, sign, oi, oj in ((ka, kb, -1.0, bi, bj), (kb, ka, 1.0, ai, aj)):
             here = k >= 0
