@@ -285,11 +285,12 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     exemplar_tiles : bool
         The exemplar itself tiles: neighbourhoods may wrap around its edges.
     joint_width : float
-        The joints' width in pixels on a man-made surface (bricks, blocks, setts); above 0 the
+        The joints' width in pixels on a man-made surface (bricks, blocks, setts): the
         neighbourhoods also compare the signed distance to the nearest joint (Lefebvre & Hoppe
-        2006, 4), 0 leaves it out.
+        2006, 4); 0 (the default) measures it (``texsynth.blocks.joints.joint_scale``), and a
+        photo without a joint network (gravel, rock) is synthesized without the channel.
     feature_weight : float
-        That channel's weight, in units of the colours' standard deviation.
+        That channel's weight, in units of the colours' standard deviation; 0 leaves it out.
 
     Returns
     -------
@@ -567,9 +568,11 @@ METHOD = register(Method(
         Param("levels", int, 0, "Multigrid levels (capped by the exemplar and output sizes); 0: "
               "enough for the coarsest neighbourhood to span the exemplar's texels", 0, 8),
         Param("joint_width", float, 0.0, "Width (pixels) of the joints between the photo's "
-              "elements (bricks, setts, blocks); 0: none", 0.0, 64.0),
+              "elements (bricks, setts, blocks); 0: measured from the photo (none where it "
+              "has no joint network)", 0.0, 64.0),
         Param("feature_weight", float, FEATURE_WEIGHT, "Weight of the distance to the joints "
-              "in the neighbourhood match, against the colours", 0.0, 8.0),
+              "in the neighbourhood match, against the colours; 0: joints not compared", 0.0,
+              8.0),
         Param("exemplar_tiles", bool, False, "The exemplar itself tiles: neighbourhoods may "
               "wrap around its edges"),
     ),

@@ -438,11 +438,12 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
         Weight lambda of the uniform patch usage term (0: off): higher repeats fewer favourite
         patches.
     joint_width : float
-        The joints' width in pixels on a man-made surface (bricks, blocks, setts); above 0 the
+        The joints' width in pixels on a man-made surface (bricks, blocks, setts): the
         patches also compare the signed distance to the nearest joint (Lefebvre & Hoppe 2006,
-        4), 0 leaves it out.
+        4); 0 (the default) measures it (``texsynth.blocks.joints.joint_scale``), and a photo
+        without a joint network (gravel, rock) is synthesized without the channel.
     feature_weight : float
-        That channel's weight, in units of the colours' standard deviation.
+        That channel's weight, in units of the colours' standard deviation; 0 leaves it out.
 
     Returns
     -------
@@ -550,9 +551,11 @@ METHOD = register(Method(
         Param("uniformity", float, 2.0, "Weight lambda of the uniform patch usage term (0: off): "
               "higher repeats fewer favourite patches", 0.0, 10.0),
         Param("joint_width", float, 0.0, "Width (pixels) of the joints between the photo's "
-              "elements (bricks, setts, blocks); 0: none", 0.0, 64.0),
+              "elements (bricks, setts, blocks); 0: measured from the photo (none where it "
+              "has no joint network)", 0.0, 64.0),
         Param("feature_weight", float, FEATURE_WEIGHT, "Weight of the distance to the joints "
-              "in the neighbourhood match, against the colours", 0.0, 8.0),
+              "in the neighbourhood match, against the colours; 0: joints not compared", 0.0,
+              8.0),
     ),
     min_exemplar=8,
     memory=_memory,

@@ -10,6 +10,10 @@ elements whole and the finer levels, matching the same channel, continue joints 
 end them inside an element. The synthesis runs on the augmented exemplar; the output copies
 the photo's own pixels at the positions found (the channel is never shown).
 
+The joints' width, when the caller gives none (0), is measured: twice the half width
+``texsynth.blocks.joints.joint_scale`` reads, and no channel where it finds no joint network
+(a stochastic photo: the method's path is then exactly the one without the channel).
+
 Deviations, one line each:
 - the distance is the Euclidean distance transform of the joint mask at the joints' working
   scale (positive inside elements, negative inside joints), resampled to the photo;
@@ -23,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from .joints import Joints, luma
+from .joints import Joints, joint_scale, luma
 
 __all__ = ["feature_distance", "augment", "working_shape"]
 
@@ -60,9 +64,10 @@ def feature_distance(photo: np.ndarray, joints: Joints,
 
 def augment(photo: np.ndarray, joint_width: float, weight: float) -> np.ndarray:
     """``photo`` (H, W, C) with its feature distance to the joints ``joint_width`` pixels wide
-    (read at half that width, ``Joints.fit``) as channel C + 1, clipped at its ``QUANTILE`` and
-    scaled to ``weight`` times the colours' standard deviation; ``photo`` itself (the same
-    array) when ``joint_width`` or ``weight`` is 0 or no joints are found (nothing changes).
+    (read at half that width, ``Joints.fit``; 0: the width ``joint_scale`` measures) as channel
+    C + 1, clipped at its ``QUANTILE`` and scaled to ``weight`` times the colours' standard
+    deviation; ``photo`` itself (the same array) when ``weight`` is 0 or no joints are found
+    (nothing changes).
 
     Raises ValueError when the joints are wider than an eighth of the shorter side.
 
@@ -71,17 +76,28 @@ def augment(photo: np.ndarray, joint_width: float, weight: float) -> np.ndarray:
     >>> i, j = np.mgrid[:96, :128]
     >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
     >>> wall = np.repeat(wall[:, :, None], 3, axis=2).astype(np.float32)
-    >>> augment(wall, 3.0, 2.0).shape, augment(wall, 0.0, 2.0) is wall
-    ((96, 128, 4), True)
+    >>> augment(wall, 3.0, 2.0).shape, augment(wall, 0.0, 2.0).shape  # given, measured
+    ((96, 128, 4), (96, 128, 4))
+    >>> augment(wall, 3.0, 0.0) is wall
+    True
+    >>> gravel = np.random.default_rng(0).random((96, 128, 3), dtype=np.float32)
+    >>> augment(gravel, 0.0, 2.0) is gravel  # no joint network: nothing changes
+    True
     """
-    if joint_width <= 0 or weight <= 0:
+    if weight <= 0:
         return photo
     h, w = photo.shape[:2]
+    flat = np.ptp(luma(photo)) == 0  # a flat photo has no joints (and no threshold)
+    if joint_width <= 0:
+        sigma = None if flat else joint_scale(photo)
+        if sigma is None:
+            return photo
+        joint_width = 2 * sigma
     if joint_width > min(h, w) / 8:
         raise ValueError(f"a joint width of {joint_width:g} px is too wide for the {w} x {h} "
                          f"exemplar: at most an eighth of its shorter side ({min(h, w) / 8:g} "
-                         "px), or 0 for none")
-    if np.ptp(luma(photo)) == 0:  # a flat photo has no joints (and no threshold)
+                         "px), or 0 to measure it")
+    if flat:
         return photo
     joints = Joints.fit(photo, joint_width / 2)
     mask = joints.mask(photo)
