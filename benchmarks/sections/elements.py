@@ -206,16 +206,16 @@ def repeat_peak(image: np.ndarray, periodic: bool = True) -> float:
 def methods(ctx) -> str:
     """The synthesis methods' table and crops (see ``METHODS``)."""
     seeds = METHOD_SEEDS[:1] if ctx.quick else METHOD_SEEDS
-    table = ["| photo | held out | method | joints | dead-end ratio | gradient ratio | "
-             "repeat peak (photo) | CPU s a seed | per seed: dead-end ratio (structure "
-             "distance) |", "|---" * 9 + "|"]
+    table = ["| photo | held out | method | joint width | measured | dead-end ratio | "
+             "gradient ratio | repeat peak (photo) | CPU s a seed | per seed: dead-end ratio "
+             "(structure distance) |", "|---" * 10 + "|"]
     pictures = []
     for label, load, sigma, held in _method_cases(ctx.quick):
         image = load()
         h, w = image.shape[:2]
         joints = None if sigma is None else Joints.fit(image, sigma)
         scale = joint_scale(image)
-        measured = f"measured {2 * scale:.1f} px (default)" if scale else "none found (default)"
+        measured = f"{2 * scale:.1f} px" if scale else "none"
         own = repeat_peak(image, periodic=False)
         rows = [[photos.corner(image, VIEW)] + [None] * (2 * len(seeds) - 1)]
         for method in METHODS:
@@ -233,7 +233,7 @@ def methods(ctx) -> str:
                     crops.append(photos.corner(out, VIEW))
                 table.append(
                     f"| **{label}** | {'yes' if held else 'no'} | {method} | "
-                    f"{measured if weight is None else 'left out'} | "
+                    f"{'default' if weight is None else 'left out'} | {measured} | "
                     f"{'-' if joints is None else _mark(dead, 0.0, METHOD_DEAD_ENDS)} | "
                     f"{_range(grad)} | "
                     f"{_mark(peak, -1.0, own + REPEAT_MARGIN)} ({own:.2f}) | "
@@ -260,7 +260,8 @@ def methods(ctx) -> str:
         "last column is the structure distance (`metrics.structure_distance`). "
         f"Goals: dead-end ratio at most {METHOD_DEAD_ENDS}; repeat peak (the luminance's "
         f"largest autocorrelation beyond {REPEAT_SHIFT} px) at most the photo's own + "
-        f"{REPEAT_MARGIN}; ✓ all seeds met, ✗ not (met / seeds). Gradient ratio: sharpness "
+        f"{REPEAT_MARGIN}; ✓ all seeds met, ✗ not (met / seeds). Joint width: left out, or "
+        "the default (measured: the width in the next column). Gradient ratio: sharpness "
         "against the photo (1 = as sharp). CPU s: process time of one run (both cores' "
         "threads), the median over seeds.",
         "",
