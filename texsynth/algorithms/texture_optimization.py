@@ -81,10 +81,16 @@ photo's pixels at the positions found. Dead-end ratio (``texsynth.metrics.dead_e
 1.00, 1.45, 0.95 without, 1.07, 2.01, 1.10 with (worse on seed 1); the 2048 granite setts'
 1024 crop to 2048, seed 0, joint width 32 px: 1.38 without, 0.83 with (CPU 106 s, 104 s).
 CPU time 21-27 s either way at 512 -> 1024.
-Without ``joint_width`` (the default) nothing changes.
+(Those figures: the distance channel alone, width given.) By default (``joint_width`` 0) the
+width is measured (``texsynth.blocks.joints.joint_scale``) and the distance saturated at a
+joint width joins it as a second channel (``texsynth.blocks.feature_distance``); a photo
+without a joint network runs the path without them, bit for bit; ``feature_weight`` 0 leaves
+the joints out. Dead-end ratio by default, seeds 0-2: the pavers TOPAVERS; the ashlar blocks
+TOASHLAR; the flagstones TOFLAG.
 
 Deviations, one line each:
-- the feature distance is one more exemplar channel (Lefebvre & Hoppe: after a PCA);
+- the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
+  the distance, after a PCA);
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
 - each level and patch size ends with a non-averaged pass (Kaspar et al. 2015, 5): each pixel
