@@ -233,7 +233,8 @@ def methods(ctx) -> str:
                     crops.append(photos.corner(out, VIEW))
                 table.append(
                     f"| **{label}** | {'yes' if held else 'no'} | {method} | "
-                    f"{'default' if weight is None else 'left out'} | {measured} | "
+                    f"{'default' if weight is None else 'left out'} | "
+                    f"{measured if weight is None else '-'} | "
                     f"{'-' if joints is None else _mark(dead, 0.0, METHOD_DEAD_ENDS)} | "
                     f"{_range(grad)} | "
                     f"{_mark(peak, -1.0, own + REPEAT_MARGIN)} ({own:.2f}) | "
