@@ -87,8 +87,9 @@ by default (measured width in brackets): the pavers' 512 crop (seed 0) 2.58 / 1.
 1.23 (5.7 px); the ashlar blocks 1.47, 1.75, 1.62 / 1.04, 1.07, 1.21 (4 px); the flagstones'
 512 crop 3.22, 2.16, 2.67 / 1.96, 1.28, 1.45 (2 px); the brick wall's 512 crop 1.01, 0.99,
 1.11 by default (2 px); the generated wall 1.86, 1.83 (seeds 1, 2) / 1.32, 1.46, 1.45 (2 px;
-at 2.8 px 1.42, 1.25, 1.25); the setts' 512 crop 2.72, 3.03, 3.47 / SETTS (22.6 px; a 512
-crop holds three courses of the 2048 photo's setts). The distance alone (one channel) read
+at 2.8 px 1.42, 1.25, 1.25); the setts' 512 crop 2.72, 3.03, 3.47 / 2.49, 2.54, 3.26
+(22.6 px; at 32 px 2.58, 2.78, 2.16; the crop holds three courses of the 2048 photo's
+setts). The distance alone (one channel) read
 1.67, 1.80, 1.53 on the pavers, 1.74, 2.40, 2.10 on the flagstones. CPU from the pavers,
 median of 3 in one process under load 12: 6.97 s left out, 9.61 s by default (1.38x: five
 working channels for three); the gravel (no joints) adds the measure, 0.41 s. Not yet under
