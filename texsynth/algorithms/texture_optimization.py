@@ -87,7 +87,8 @@ joint width joins it as a second channel (``texsynth.blocks.feature_distance``);
 without a joint network runs the path without them, bit for bit; ``feature_weight`` 0 leaves
 the joints out. Dead-end ratio by default, 512 -> 1024, seeds 0-2: the pavers' 512 crop 1.19,
 1.04, 1.16; the flagstones' 512 crop 0.80, 0.97, 1.30; the ashlar blocks 1.06, 1.10, 1.21 (at
-a measured width of 5.7 px, before the finest near-best scale was taken: 4 px now). CPU 20-24
+a measured width of 5.7 px, before the finest near-best scale was taken: 4 px now); the
+generated wall 1.29, 1.09, 1.34 (2 px; the distance alone at 2.8 px 1.27, 1.33, 1.23). CPU 20-24
 s a run under load 12 where the distance alone took 15-17 s. The repeat peak beyond 24 px
 rose on the pavers' seed 1 to 0.41 (the photo's own 0.24; 0.34 with the distance alone).
 
