@@ -40,7 +40,9 @@ def test_courses_run_straight_across_the_output(seed):
 
 
 def test_without_the_alignment_the_courses_step(monkeypatch):
-    """The test above can fail: the same run without the alignment steps more often."""
+    """The test above can fail: the same run without the alignment (and without the joints'
+    channels, which keep courses too: 0.051 with them) steps more often."""
     monkeypatch.setattr(method, "ALIGN_PIXELS", 0)
-    out = texsynth.synthesize(wall(), 192, 192, method="multiscale_mrf", seed=0)
+    out = texsynth.synthesize(wall(), 192, 192, method="multiscale_mrf", seed=0,
+                              feature_weight=0.0)
     assert course_steps(out, COURSE, STRIP) > 0.06

@@ -18,7 +18,7 @@ import numpy as np
 from scipy import ndimage
 
 from texsynth import make_tileable, metrics, synthesize
-from texsynth.blocks.joints import Joints
+from texsynth.blocks.joints import Joints, joint_scale
 from texsynth.blocks.periodic import periodic_component
 from texsynth.io import read_photo
 from texsynth.tileable import default_band, tiles
@@ -148,17 +148,19 @@ def run(ctx) -> str:
 
 
 #: The synthesis methods' table (issue 41, "Synthesis that places whole elements"): the
-#: README's picks for bricks, setts, tiles, from each photo to twice its size, by default and
-#: told the joints' width (``joint_width``: the feature-distance channel). The goals: dead-end
-#: ratio at most METHOD_DEAD_ENDS; the largest autocorrelation peak beyond REPEAT_SHIFT px at
-#: most the photo's own plus REPEAT_MARGIN.
+#: README's picks for bricks, setts, tiles, from each photo to twice its size, without the
+#: joints (``feature_weight`` 0: the path before the joints were read) and by default (their
+#: width measured, ``joint_width`` 0: the feature-distance channel where there is a joint
+#: network). The goals: dead-end ratio at most METHOD_DEAD_ENDS; the largest autocorrelation
+#: peak beyond REPEAT_SHIFT px at most the photo's own plus REPEAT_MARGIN.
 METHODS = ("multiscale_mrf", "texture_optimization")
 METHOD_SEEDS = tuple(range(3))
 METHOD_DEAD_ENDS, REPEAT_SHIFT, REPEAT_MARGIN = 1.25, 24, 0.1
 
 
 def _method_cases(quick: bool):
-    """(label, photo, the joints' half width in photo pixels, held out from tuning)."""
+    """(label, photo, the joints' half width in photo pixels the measure reads (None: a
+    stochastic photo, its structure distance instead), held out from tuning)."""
     wall = ("generated wall 480 x 448", generated_wall, 1.5, False)
     if quick:
         return [wall]
@@ -171,6 +173,9 @@ def _method_cases(quick: bool):
          lambda: _shared("openarena/stone_blocks_dark.png"), 2.0, True),
         ("flagstones, centre 512 (pbr aztekWall)",
          lambda: _shared("pbr/aztekWall_color.png", 512), 2.0, True),
+        ("granite setts, centre 512", lambda: _large(photos.SETTS, 512), 16.0, True),
+        ("gravel, centre 512 (no joints)",
+         lambda: _large("torcs-data/gravel_pebbles.png", 512), None, False),
     ]
 
 
@@ -201,31 +206,37 @@ def repeat_peak(image: np.ndarray, periodic: bool = True) -> float:
 def methods(ctx) -> str:
     """The synthesis methods' table and crops (see ``METHODS``)."""
     seeds = METHOD_SEEDS[:1] if ctx.quick else METHOD_SEEDS
-    table = ["| photo | held out | method | joint width | dead-end ratio | gradient ratio | "
-             "repeat peak (photo) | CPU s a seed | per seed: dead-end ratio |", "|---" * 9 + "|"]
+    table = ["| photo | held out | method | joint width | measured | dead-end ratio | "
+             "gradient ratio | repeat peak (photo) | CPU s a seed | per seed: dead-end ratio "
+             "(structure distance) |", "|---" * 10 + "|"]
     pictures = []
     for label, load, sigma, held in _method_cases(ctx.quick):
         image = load()
         h, w = image.shape[:2]
-        joints = Joints.fit(image, sigma)
+        joints = None if sigma is None else Joints.fit(image, sigma)
+        scale = joint_scale(image)
+        measured = f"{2 * scale:.1f} px" if scale else "none"
         own = repeat_peak(image, periodic=False)
         rows = [[photos.corner(image, VIEW)] + [None] * (2 * len(seeds) - 1)]
         for method in METHODS:
-            for width in (0.0, 2 * sigma):
+            for weight in (0.0, None):
                 dead, grad, peak, seconds, crops = [], [], [], [], []
                 for seed in seeds:
                     start = time.process_time()
                     out = synthesize(image, 2 * w, 2 * h, method=method, seed=seed,
-                                     joint_width=width)
+                                     **({} if weight is None else {"feature_weight": weight}))
                     seconds.append(time.process_time() - start)
-                    dead.append(metrics.dead_end_ratio(image, out, sigma, joints))
+                    dead.append(metrics.structure_distance(image, out) if joints is None
+                                else metrics.dead_end_ratio(image, out, sigma, joints))
                     grad.append(metrics.gradient_ratio(image, out))
                     peak.append(repeat_peak(out))
                     crops.append(photos.corner(out, VIEW))
                 table.append(
                     f"| **{label}** | {'yes' if held else 'no'} | {method} | "
-                    f"{f'{width:g} px' if width else 'none (default)'} | "
-                    f"{_mark(dead, 0.0, METHOD_DEAD_ENDS)} | {_range(grad)} | "
+                    f"{'default' if weight is None else 'left out'} | "
+                    f"{measured if weight is None else '-'} | "
+                    f"{'-' if joints is None else _mark(dead, 0.0, METHOD_DEAD_ENDS)} | "
+                    f"{_range(grad)} | "
                     f"{_mark(peak, -1.0, own + REPEAT_MARGIN)} ({own:.2f}) | "
                     f"{np.median(seconds):.1f} | {' '.join(f'{d:.2f}' for d in dead)} |")
                 rows.append(crops)
@@ -233,19 +244,25 @@ def methods(ctx) -> str:
             "".join(c if c.isalnum() else " " for c in label).split()[:3])
         columns = [f"seed {s}" for s in seeds]
         sheet = ctx.contact_sheet(f"{name}.png", columns, rows[1:], cell=VIEW)
-        pictures += [f"![{label}: rows multiscale_mrf default, told the joints, "
-                     f"texture_optimization default, told the joints; seeds {seeds[0]}-"
+        pictures += [f"![{label}: rows multiscale_mrf without the joints, by default, "
+                     f"texture_optimization without the joints, by default; seeds {seeds[0]}-"
                      f"{seeds[-1]}, around the wrap's crossing]({sheet})", ""]
     return "\n".join([
         "### Synthesis that places whole elements: multiscale_mrf and texture_optimization",
         "",
-        f"Each photo to twice its size, seeds {seeds[0]}-{seeds[-1]}, by default and told the "
-        "joints' width (`joint_width`, twice the half width the measure reads: the "
-        "feature-distance channel of Lefebvre & Hoppe 2006, 4, `texsynth.blocks."
-        "feature_distance`). Held out: not looked at while the channel's weight was chosen. "
+        f"Each photo to twice its size, seeds {seeds[0]}-{seeds[-1]}, with the joints left "
+        "out (`feature_weight=0`: the path before they were read) and by default: the joints' "
+        "width measured (`texsynth.blocks.joints.joint_scale`, the scale where the skeleton's "
+        "two families at right angles are most coherent; none on a stochastic photo) and "
+        "the feature-distance channel of Lefebvre & Hoppe 2006, 4 added "
+        "(`texsynth.blocks.feature_distance`). Held out: not looked at while the channel's "
+        "weight was chosen (the coherence level that finds joints was set on all these "
+        "photos' 512 crops and five more stochastic ones). The gravel has no joints: its "
+        "last column is the structure distance (`metrics.structure_distance`). "
         f"Goals: dead-end ratio at most {METHOD_DEAD_ENDS}; repeat peak (the luminance's "
         f"largest autocorrelation beyond {REPEAT_SHIFT} px) at most the photo's own + "
-        f"{REPEAT_MARGIN}; ✓ all seeds met, ✗ not (met / seeds). Gradient ratio: sharpness "
+        f"{REPEAT_MARGIN}; ✓ all seeds met, ✗ not (met / seeds). Joint width: left out, or "
+        "the default (measured: the width in the next column). Gradient ratio: sharpness "
         "against the photo (1 = as sharp). CPU s: process time of one run (both cores' "
         "threads), the median over seeds.",
         "",

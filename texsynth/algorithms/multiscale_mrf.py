@@ -75,7 +75,27 @@ generated wall (``benchmarks.manmade.bricks``) 1.86, 1.83 (seeds 1, 2) without, 
 (held out) to 2048, seed 0, joint width 32 px: 1.48 without, 1.07 with (CPU 28 s, 25 s).
 Fewer stubs, not none: the goal (1.25) is met on the generated wall and the setts only.
 Weight 4 instead of 2: pavers 1.60, 1.69, 1.48, the generated wall 1.14, 1.14, 1.18 against
-1.05, 1.11, 1.21. Without ``joint_width`` (the default) nothing changes.
+1.05, 1.11, 1.21 (those figures: the distance channel alone, width given).
+
+By default (``joint_width`` 0) the width is measured (``texsynth.blocks.joints.joint_scale``:
+the scale at which the joint skeleton's two families at right angles are most coherent), and
+a second channel, the distance saturated at a joint width, joins the first (see
+``texsynth.blocks.feature_distance``); a photo without a joint network (the shared gravel,
+rock, asphalt, lawn, dirt and cliff photos) runs the path without the channels, bit for bit.
+``feature_weight`` 0 leaves the joints out. Dead-end ratio, 512 -> 1024, seeds 0-2, left out /
+by default (measured width in brackets): the pavers' 512 crop (seed 0) 2.58 / 1.43, 1.62,
+1.23 (5.7 px); the ashlar blocks 1.47, 1.75, 1.62 / 1.04, 1.07, 1.21 (4 px); the flagstones'
+512 crop 3.22, 2.16, 2.67 / 1.96, 1.28, 1.45 (2 px); the brick wall's 512 crop 1.01, 0.99,
+1.11 by default (2 px); the generated wall 1.86, 1.83 (seeds 1, 2) / 1.32, 1.46, 1.45 (2 px;
+at 2.8 px 1.42, 1.25, 1.25); the setts' 512 crop 2.72, 3.03, 3.47 / 2.49, 2.54, 3.26
+(22.6 px; at 32 px 2.58, 2.78, 2.16; the crop holds three courses of the 2048 photo's
+setts). The distance alone (one channel) read
+1.67, 1.80, 1.53 on the pavers, 1.74, 2.40, 2.10 on the flagstones. CPU from the pavers,
+median of 3 in one process under load 12: 6.97 s left out, 9.61 s by default (1.38x: five
+working channels for three); the gravel (no joints) adds the measure, 0.41 s. Not yet under
+1.25 everywhere: joints still end where two copies meet inside a stone (the flagstones, the
+setts), and stones run together where a bed joint of one copy meets the middle of another's
+stone.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
@@ -97,8 +117,8 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - levels reading whole-exemplar windows (2^l < s: the finest of a photo over ``TABLE_ROWS``
   pixels) compare pixels, not box means; a lattice's box starts at its point (s > 1), not
   centred on it;
-- with ``joint_width`` the feature distance is one more exemplar channel, compared and
-  centred as a colour is (Lefebvre & Hoppe compare it after a PCA of the appearance vectors);
+- where there are joints the feature distance and its saturation are two more exemplar
+  channels, compared and centred as colours are (Lefebvre & Hoppe: the distance, after a PCA);
 - (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
   copies are the random start's) and the finest, on a grid of at most ``ALIGN_PIXELS`` pixels
   that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
@@ -285,11 +305,12 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     exemplar_tiles : bool
         The exemplar itself tiles: neighbourhoods may wrap around its edges.
     joint_width : float
-        The joints' width in pixels on a man-made surface (bricks, blocks, setts); above 0 the
+        The joints' width in pixels on a man-made surface (bricks, blocks, setts): the
         neighbourhoods also compare the signed distance to the nearest joint (Lefebvre & Hoppe
-        2006, 4), 0 leaves it out.
+        2006, 4); 0 (the default) measures it (``texsynth.blocks.joints.joint_scale``), and a
+        photo without a joint network (gravel, rock) is synthesized without the channel.
     feature_weight : float
-        That channel's weight, in units of the colours' standard deviation.
+        That channel's weight, in units of the colours' standard deviation; 0 leaves it out.
 
     Returns
     -------
@@ -570,9 +591,11 @@ METHOD = register(Method(
         Param("levels", int, 0, "Multigrid levels (capped by the exemplar and output sizes); 0: "
               "enough for the coarsest neighbourhood to span the exemplar's texels", 0, 8),
         Param("joint_width", float, 0.0, "Width (pixels) of the joints between the photo's "
-              "elements (bricks, setts, blocks); 0: none", 0.0, 64.0),
+              "elements (bricks, setts, blocks); 0: measured from the photo (none where it "
+              "has no joint network)", 0.0, 64.0),
         Param("feature_weight", float, FEATURE_WEIGHT, "Weight of the distance to the joints "
-              "in the neighbourhood match, against the colours", 0.0, 8.0),
+              "in the neighbourhood match, against the colours; 0: joints not compared", 0.0,
+              8.0),
         Param("exemplar_tiles", bool, False, "The exemplar itself tiles: neighbourhoods may "
               "wrap around its edges"),
     ),
