@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.fft as sfft
+from scipy import ndimage
 
 from .parallel import threads
 
@@ -242,15 +243,17 @@ def _placement(search, template, mask, source_shape, corner, near, placed, offse
     if not mask.any():
         return int(rng.integers(0, h)), int(rng.integers(0, w))
     ssd = search.ssd(template, mask)[:h, :w]
-    py, px = np.arange(h)[:, None], np.arange(w)[None, :]
 
     def away(points, r, origin=(0, 0)):
-        """Placements more than r (on either axis, on the torus) from every point."""
-        out = np.ones((h, w), bool)
-        for qy, qx in points:
-            out &= ((np.abs((py - origin[0] - qy + h // 2) % h - h // 2) > r)
-                    | (np.abs((px - origin[1] - qx + w // 2) % w - w // 2) > r))
-        return out
+        """Placements more than r (on either axis, on the torus) from every point: the points
+        marked on the (h, w) torus and dilated by a (2r + 1)-box (a box as wide as the torus
+        covers it), in time that does not grow with the blocks placed."""
+        marked = np.zeros((h, w), np.uint8)
+        if len(points):
+            q = np.asarray(list(points), np.int64).reshape(-1, 2)
+            marked[(q[:, 0] + origin[0]) % h, (q[:, 1] + origin[1]) % w] = 1
+        size = (min(2 * r + 1, h), min(2 * r + 1, w))
+        return ndimage.maximum_filter(marked, size=size, mode="wrap") == 0
 
     neighbours = away(near, radius, corner)
     apart = neighbours & away(offsets, radius // 2, corner)   # at no block's offset: a tiling
