@@ -193,6 +193,14 @@ class NeedsEstimate:
 # --- operators --------------------------------------------------------------------------------
 
 
+def _photo_name():
+    """The operators' Image property: which photo they read."""
+    return bpy.props.StringProperty(
+        name="Image", options={"SKIP_SAVE"},
+        description="Name of the photo; empty: the Image Editor's image, the panel's photo or "
+                    "the active Image Texture node's image")
+
+
 class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
     """Estimate the slant and tilt of the textured plane in a photo (shape from texture)"""
 
@@ -200,10 +208,7 @@ class TEXSYNTH_OT_estimate_plane(bpy.types.Operator):
     bl_label = "Estimate Plane"
     bl_options = {"REGISTER", "UNDO"}
 
-    image: bpy.props.StringProperty(
-        name="Image", options={"SKIP_SAVE"},
-        description="Name of the photo; empty: the Image Editor's image, the panel's photo or "
-                    "the active Image Texture node's image")
+    image: _photo_name()
 
     def execute(self, context):
         settings = context.scene.texsynth.plane
@@ -280,10 +285,7 @@ class TEXSYNTH_OT_plane_from_rectangle(bpy.types.Operator):
     bl_label = "Plane from Rectangle"
     bl_options = {"REGISTER", "UNDO"}
 
-    image: bpy.props.StringProperty(
-        name="Image", options={"SKIP_SAVE"},
-        description="Name of the photo; empty: the Image Editor's image, the panel's photo or "
-                    "the active Image Texture node's image")
+    image: _photo_name()
     corners: bpy.props.FloatVectorProperty(
         name="Corners", size=8, options={"SKIP_SAVE"},
         description="x1, y1, ..., x4, y4: the rectangle's corners in order around it, in "
