@@ -94,12 +94,15 @@ def test_a_worker_runs_texsynth_already_imported_keeps_its_heap_and_its_cores(cl
     (state,) = client.run(lambda: ("texsynth.batch" in sys.modules,
                                    os.environ.get("MALLOC_TRIM_THRESHOLD_"),
                                    os.environ.get("MALLOC_MMAP_THRESHOLD_"),
-                                   *map(os.environ.get, batch.THREAD_VARIABLES))).values()
+                                   *map(os.environ.get, batch.THREAD_VARIABLES),
+                                   sys.modules["texsynth.blocks.parallel"].WORKERS)).values()
     assert state[:3] == (True, *(batch.WORKER_MALLOC[n] for n in ("MALLOC_TRIM_THRESHOLD_",
                                                                    "MALLOC_MMAP_THRESHOLD_")))
-    # one worker: BLAS gets every core, not Dask's 1 (unless this process sets its own)
-    cores = str(batch.WORKERS)
-    assert state[3:] == tuple(os.environ.get(n, cores) for n in batch.THREAD_VARIABLES)
+    # one worker: BLAS and the pool get every core, not Dask's 1 (unless this process sets
+    # its own)
+    cores = str(batch.CORES)
+    assert state[3:-1] == tuple(os.environ.get(n, cores) for n in batch.THREAD_VARIABLES)
+    assert state[-1] == int(os.environ.get("TEXSYNTH_THREADS", cores))
     assert "MALLOC_MMAP_THRESHOLD_" not in os.environ  # the nanny's setting stays in the worker
 
 

@@ -27,7 +27,7 @@ def loadavg(monkeypatch, tmp_path):
     """Writes a /proc/loadavg of its own for the budget, on a machine of 2 cores."""
     path = tmp_path / "loadavg"
     monkeypatch.setattr(budget, "LOADAVG", path)
-    monkeypatch.setattr(budget, "WORKERS", 2)
+    monkeypatch.setattr(budget, "CORES", 2)
     monkeypatch.setattr(budget, "_load", None)
 
     def write(text):

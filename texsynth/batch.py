@@ -45,7 +45,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from .blocks.parallel import WORKERS
+from .blocks.parallel import CORES
 from .io.files import TEMP_PREFIX
 from .jobs import (
     DEFAULT_METHOD,
@@ -290,7 +290,8 @@ SCHEMES = ("tcp", "tls")
 #: keeps freed memory for the next ones (see :func:`_worker_environment`).
 WORKER_MALLOC = {"MALLOC_MMAP_THRESHOLD_": str(1 << 30), "MALLOC_TRIM_THRESHOLD_": str(1 << 34)}
 #: The thread counts of the BLAS and OpenMP libraries, which Dask sets to 1 in its workers.
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                    "TEXSYNTH_THREADS")
 
 
 def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
@@ -492,8 +493,9 @@ def _worker_environment(workers: int) -> dict:
     Dask's nanny sets ``OMP_NUM_THREADS``, ``MKL_NUM_THREADS`` and ``OPENBLAS_NUM_THREADS``
     to 1 (one thread per core, in as many worker threads); a batch's worker runs one task at a
     time, which uses its share of the cores through BLAS (the patch distances' matrix products)
-    as through the core's thread pool, so the BLAS libraries get that share,
-    :data:`THREAD_VARIABLES` (a variable set in the starting process still wins).
+    as through the core's thread pool, so the BLAS libraries and the pool
+    (``TEXSYNTH_THREADS``, ``blocks.parallel``) get that share, :data:`THREAD_VARIABLES` (a
+    variable set in the starting process still wins).
 
     Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_=65536``, so glibc hands freed memory back at
     once and every fresh work array faults its pages in again: a task ran about 1.3x as long
@@ -507,7 +509,7 @@ def _worker_environment(workers: int) -> dict:
     environment over these: :func:`local_cluster` sets glibc's there while the workers start.)
     """
     key = "distributed.nanny.pre-spawn-environ."
-    share = str(max(1, WORKERS // workers))
+    share = str(max(1, CORES // workers))
     # A worker's memory is mostly its kept heap, not Dask's data (a task returns a word): no
     # spilling, and no pause that would wait for memory a kept heap never hands back; Dask
     # still ends a worker past 95 % of its share of the memory.

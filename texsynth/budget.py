@@ -36,7 +36,7 @@ import numpy as np
 
 from . import validation
 from .blocks import fft
-from .blocks.parallel import WORKERS
+from .blocks.parallel import CORES
 from .progress import Progress
 from .registry import get_method, methods
 
@@ -158,7 +158,7 @@ def contention() -> float:
     now = time.monotonic()
     if _load is None or now - _load[0] > REFRESH:
         runnable = _runnable()
-        _load = (now, 1.0 if runnable is None else float(np.clip(runnable / WORKERS, 1.0, 100.0)))
+        _load = (now, 1.0 if runnable is None else float(np.clip(runnable / CORES, 1.0, 100.0)))
     return _load[1]
 
 

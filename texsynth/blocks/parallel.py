@@ -15,12 +15,15 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-__all__ = ["WORKERS", "run", "ranges", "threads", "small_product"]
+__all__ = ["CORES", "WORKERS", "run", "ranges", "threads", "small_product"]
 
-#: Threads of the shared pool: the cores this process may use.
-WORKERS = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-              else os.cpu_count() or 1)
-
+#: The cores this process may use.
+CORES = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+            else os.cpu_count() or 1)
+#: Threads of the shared pool: ``TEXSYNTH_THREADS`` where set (a batch's worker takes its
+#: share of the cores: two workers of two threads each on 2 cores wait on each other's
+#: descheduled halves), else :data:`CORES`.
+WORKERS = max(1, int(os.environ.get("TEXSYNTH_THREADS") or 0) or CORES)
 _pool: ThreadPoolExecutor | None = None
 _lock = threading.Lock()
 _inside = threading.local()                          # set in the pool's threads
