@@ -25,17 +25,18 @@ from _images import smooth_noise
 COURSE, LENGTH, JOINT = 12, 28, 3
 
 
-def bricks(shape=(160, 176), seed=0):
+def bricks(shape=(160, 176), seed=0, course=COURSE):
     """A running-bond wall drawn by code: bricks of their own colour and grain, grey mortar
-    (green channel above 0.5 only there); its size is no whole number of courses or bricks."""
+    (green channel above 0.5 only there); its size is no whole number of courses or bricks
+    (``course`` may be a fraction of a pixel, as a photo's)."""
     rng = np.random.default_rng(seed)
     h, w = shape
     i, j = np.mgrid[:h, :w] + 5
-    row = i // COURSE
+    row = (i // course).astype(int)
     col = (j + (row % 2) * LENGTH // 2) // LENGTH
     colours = rng.uniform([0.45, 0.15, 0.1], [0.8, 0.35, 0.25], (row.max() + 1, col.max() + 2, 3))
     wall = colours[row, col] + 0.06 * smooth_noise(i.shape, seed=seed, sigma=1.0) - 0.03
-    mortar = (i % COURSE < JOINT) | ((j + (row % 2) * LENGTH // 2) % LENGTH < JOINT)
+    mortar = (i % course < JOINT) | ((j + (row % 2) * LENGTH // 2) % LENGTH < JOINT)
     wall[mortar] = 0.62 + 0.03 * rng.standard_normal((mortar.sum(), 1))
     return wall.astype(np.float32)
 
@@ -119,6 +120,20 @@ def test_the_courses_stay_in_rows_across_cells(tiles):
     image = wang_tiling(tiles, 6 * t, 6 * t, cells=6, seed=1)
     mortar = (image[:, :, 1] > 0.5).mean(axis=1)
     assert 0.8 * JOINT / COURSE < (mortar > 0.8).mean() <= 1.2 * JOINT / COURSE
+
+
+def test_the_default_tile_is_whole_courses_and_keeps_them_in_rows():
+    """Issue 41: courses of 11.6 px, and the default tile side (fitted to the photo's repeat
+    alone it was 94 px, 8.1 courses, and a fifth of the mortar rows broke across cells) is a
+    whole number of courses, every copy in phase: mortar rows from side to side come every
+    course."""
+    course = 11.6
+    tiles = wang_tiles(bricks((200, 208), course=course), colours=2, gutter=4)
+    off = tiles.tile / course - round(tiles.tile / course)
+    image = wang_tiling(tiles, 6 * tiles.tile, 6 * tiles.tile, cells=6, seed=1)
+    mortar = (image[:, :, 1] > 0.5).mean(axis=1)
+    assert abs(off) <= 1 / 16
+    assert 0.9 * JOINT / course < (mortar > 0.8).mean() <= 1.1 * JOINT / course
 
 
 def test_every_tile_has_a_middle_of_its_own(tiles):

@@ -33,6 +33,18 @@ Deviations, one line each:
   pavers wide, the repeat within a row read 245 px, the pavers are 258-261 px);
 - lags under half the width (a repeat seen twice, not Substance Sampler's three times: a
   crop two elements wide has a bond to keep).
+
+Where the courses are, :func:`course_phase` reads their local phase (complex demodulation at
+the course frequency, Bloomfield 1976, 7: the luminance times ``exp(-2 pi i y / P)``, low-passed
+down the rows over a period and along them over a band), at the strongest harmonic of the
+repeat (its period ``P / m``, ``m`` 1 to 4: the shared brick wall's repeat is two courses, the
+setts' three rows) read to a fraction of a pixel (the row means' spectrum, zero-padded eight
+times, its peak interpolated by a parabola): a photo's courses are seldom a whole number of
+pixels (the shared brick wall's are 8.2 px at 256), and copies taken at whole multiples of the
+rounded period drift out of phase across the photo.
+Deviations, one line each: one period for the whole photo (a wall photographed square on:
+perspective would bend it); the band along the rows is a box, the low pass down them a Gaussian
+of one period.
 """
 
 from __future__ import annotations
@@ -43,7 +55,7 @@ from scipy import ndimage
 
 from .joints import luma
 
-__all__ = ["course_period", "bond"]
+__all__ = ["course_period", "course_phase", "bond"]
 
 #: Least repeat strength (correlation at the period and at twice it) of a rhythm: smooth noise
 #: (8 seeds) and the shared large stochastic photos (rock, asphalt, grass, dirt, layered rock)
@@ -95,6 +107,61 @@ def course_period(image: np.ndarray) -> int | None:
     if best < LEVEL:
         return None
     return int(k[np.nonzero(strength >= NEAR * best)[0][0]])
+
+
+def course_phase(image: np.ndarray, period: int, width: int, step: int = 1
+                 ) -> tuple[float, np.ndarray]:
+    """The courses' period to a fraction of a pixel and their local phase: ``(P', theta)``,
+    theta float32 (H, ceil(W / step)) in radians, so that the courses of ``image`` (H, W[, C])
+    near row ``y`` and column ``x * step`` go as ``cos(2 pi y / P' + theta[y, x])``; ``P'`` is
+    the strongest harmonic's period, ``period`` over a whole number (one course of a repeat
+    of several).
+
+    Parameters
+    ----------
+    image : array (H, W) or (H, W, C)
+    period : int
+        The courses' repeat down the rows (:func:`course_period`).
+    width : int
+        The band along the rows (pixels) over which the phase is averaged.
+    step : int
+        Every ``step``-th column of the phase is returned.
+
+    References
+    ----------
+    Bloomfield 1976, "Fourier Analysis of Time Series", 7 (complex demodulation).
+
+    Examples
+    --------
+    >>> y = np.arange(200)[:, None] + np.zeros((1, 60))
+    >>> period, theta = course_phase(np.cos(2 * np.pi * (y - 3) / 12.4), 25, width=20)
+    >>> round(period, 1), round(float(np.mod(theta[100, 30] * 12.4 / (2 * np.pi), 12.4)), 1)
+    (12.4, 9.4)
+    """
+    z = luma(image)
+    h = z.shape[0]
+    y = np.arange(h)
+    z = z - np.float32(z.mean())
+    p = z.mean(axis=1, dtype=np.float64)
+    p = p - np.polyval(np.polyfit(y, p, 1), y)
+    n = 8 * sfft.next_fast_len(h)
+    power = np.abs(sfft.rfft(p * np.hanning(h), n)) ** 2
+    best, nu = -1.0, 1 / period
+    for m in range(1, 5):  # the harmonic m / period, within half a repeat's frequency
+        lo, hi = int((m - 0.5) * n / period), min(int((m + 0.5) * n / period), len(power) - 2)
+        if lo >= hi:
+            break
+        k = lo + int(np.argmax(power[lo:hi]))
+        if power[k] > best and k > 0:
+            a, b, c = power[k - 1:k + 2]
+            best, nu = power[k], (k + 0.5 * (a - c) / max(a - 2 * b + c, -1e300)) / n
+    refined = 1 / nu
+    band = ndimage.uniform_filter1d(z, max(1, width), axis=1, mode="nearest")[:, ::step]
+    band = band * np.exp(-2j * np.pi * y / refined).astype(np.complex64)[:, None]
+    sigma = refined
+    theta = np.arctan2(ndimage.gaussian_filter1d(band.imag, sigma, axis=0, mode="nearest"),
+                       ndimage.gaussian_filter1d(band.real, sigma, axis=0, mode="nearest"))
+    return float(refined), theta.astype(np.float32)
 
 
 def _peaks(a: np.ndarray) -> np.ndarray:
