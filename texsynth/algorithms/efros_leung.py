@@ -118,7 +118,7 @@ def efros_leung(exemplar, width, height, rng, progress, window=11, epsilon=0.1,
     offsets = square_offsets(window)
     gauss = gaussian_weights(offsets, window / 6.4)
     progress(0.0, "Efros-Leung: indexing exemplar windows")
-    patches = PatchMatrix(exemplar, offsets, wrap=exemplar_tiles)
+    patches = PatchMatrix(exemplar, offsets, wrap=exemplar_tiles, batch_bytes=BATCH_BYTES)
     centres = patches.positions
     n_windows = len(centres)
     batch_max = max(1, BATCH_BYTES // (4 * n_windows))

@@ -40,6 +40,8 @@ Moisan 2011 (the periodic component).
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ..blocks import fft
@@ -51,12 +53,14 @@ __all__ = ["random_phase", "METHOD"]
 
 #: Values of a channel the histogram matching keeps (every one up to a 1024^2 photo).
 SAMPLES = 1 << 20
-#: Shares of the progress in a later channel's time (CPU clock, median of 5 warm runs at
-#: 128^2 -> 1024^2, 256^2 -> 2048^2, 512^2 -> 1024^2, 1024^2 -> 2048^2): the random phase's
-#: draw and transform (0.84, 0.64, 0.63, 0.67), a channel's transforms (0.57, 0.72, 0.56, 0.66
-#: of it; its histogram matching the rest) and what the first channel costs more, writing the
-#: output's pages for the first time (1.61, 1.41, 1.32, 3.49 a later channel's time).
-PHASE, TRANSFORM, FIRST_WRITE = 0.65, 0.6, 0.5
+#: A channel's time in its transforms' (CPU clock, buffers touched beforehand; medians of 5-9
+#: warm runs at 128^2 -> 1024^2, 256^2 -> 2048^2, 512^2 -> 1024^2, 1024^2 -> 2048^2): the random
+#: phase's draw and transform take PHASE of a channel's transforms (1.4, 1.16, 1.5, 0.93), its
+#: histogram matching (1.25, 0.49, 1.3, 0.67 of them) a pass over the output's pixels, the sort
+#: of the sample and the tables: MATCH_PIXEL + (MATCH_SAMPLE samples + MATCH_FIXED) / pixels.
+PHASE, MATCH_PIXEL, MATCH_SAMPLE, MATCH_FIXED = 1.1, 0.31, 1.16, 6.3e5
+#: Bytes between the writes that touch every page of a new buffer (the smallest page).
+PAGE = 4096
 
 
 def random_phase(exemplar, width, height, rng, progress):
@@ -92,29 +96,43 @@ def random_phase(exemplar, width, height, rng, progress):
     y, x = (h - m_) // 2, (w - n_) // 2
     crop = exemplar[y:y + m_, x:x + n_]
     whole = (m_, n_) == (height, width)                # the spot fills the output: s~ = p - m
-    # Fractions by the work of each step, in a later channel's time: the crop's periodic
-    # component C crop / output, the phase's noise and transform, each channel's transforms and
-    # matching (the first one's writing the output's pages too).
-    steps = np.cumsum([0.0 if whole else channels * m_ * n_ / (width * height), PHASE]
-                      + [TRANSFORM, 1.0 - TRANSFORM + FIRST_WRITE]
-                      + [TRANSFORM, 1.0 - TRANSFORM] * (channels - 1))
-    steps /= steps[-1]                                 # steps[2 c + 2]: channel c transformed
+    start = time.process_time()
     progress(0.0, "the exemplar's periodic component")
     if not whole:
         p = periodic_component(crop)
         m = p.mean(axis=(0, 1), dtype=np.float64)
         gain = np.float32(np.sqrt(width * height / (m_ * n_)))
-        spot = np.zeros((height, width), np.float32)
+        spot = np.zeros((height, width), np.float32)  # never written but its corner: zero pages
     step = sample_step(h * w, w, SAMPLES)
     values = exemplar.reshape(-1, channels)[::step]
     if step > 1:  # a sample spread over a large photo: read from it once, not once a channel
         values = np.ascontiguousarray(values)
-    progress(steps[0], "drawing the random phase")
-    spectrum = fft.rfft2(rng.random((height, width), dtype=np.float32))
+    # Every large buffer once, its pages touched here: the noise (then each channel's image),
+    # the phase, a channel's spectrum and the output. A new page costs from a tenth of a
+    # millisecond a MiB to twenty times that (a virtual machine's host giving back memory it had
+    # reclaimed), so this step's share is measured, not fixed: its CPU time against the phase's
+    # that follows it (PHASE of a channel's transforms).
+    image = np.empty((height, width), np.float32)
+    spectrum = np.empty((height, width // 2 + 1), np.complex64)
+    modulated = None if whole else np.empty_like(spectrum)
+    out = np.empty((height, width, channels), np.float32)
+    for buffer in (image, spectrum, modulated, out):
+        if buffer is not None:
+            buffer.reshape(-1).view(np.uint8)[::PAGE] = 0
+    touched = time.process_time()
+    rng.random(dtype=np.float32, out=image)
+    fft.rfft2(image, out=spectrum)
     spectrum[0, 0] = 1.0                               # theta(0) = 0: the mean is m
     np.divide(spectrum, np.abs(spectrum), out=spectrum, where=spectrum != 0)  # e^(i theta)
-    out = np.empty((height, width, channels), np.float32)
-    progress(steps[1], "random phase drawn")
+    now = time.process_time()
+    # Fractions: the steps so far by their time, then each channel's transforms and matching
+    # by their shares of a channel (the phase's time over PHASE, a channel's transforms).
+    matching = MATCH_PIXEL + (MATCH_SAMPLE * len(values) + MATCH_FIXED) / (width * height)
+    channel = max(now - touched, 1e-9) / PHASE * (1.0 + matching)
+    begun = (now - start) / (now - start + channels * channel)
+    shares = np.cumsum([1.0, matching] * channels) / (channels * (1.0 + matching))
+    steps = begun + (1.0 - begun) * shares
+    progress(begun, "random phase drawn")
     for c in range(channels):
         if whole:  # F(p) from u's transform and the border's 1-D ones; frequency 0 is m M N
             modulated = periodic_spectrum(crop[:, :, c])
@@ -124,24 +142,25 @@ def random_phase(exemplar, width, height, rng, progress):
             mean = np.float32(m[c])
             spot[:m_, :n_] = p[:, :, c] - mean
             spot[:m_, :n_] *= gain
-            modulated = fft.rfft2(spot)
+            fft.rfft2(spot, out=modulated)
         modulated *= spectrum
-        image = fft.irfft2(modulated, (height, width))
+        fft.irfft2(modulated, (height, width), out=image)
         image += mean
-        progress(steps[2 * c + 2], f"channel {c + 1}/{channels}: matching its histogram")
-        out[:, :, c] = match(image, TargetHistogram(values[:, c]))
-        progress(steps[2 * c + 3], f"channel {c + 1}/{channels}")
+        progress(steps[2 * c], f"channel {c + 1}/{channels}: matching its histogram")
+        out[:, :, c] = match(image, TargetHistogram(values[:, c]), out=image)
+        progress(steps[2 * c + 1], f"channel {c + 1}/{channels}")
     return out
 
 
 def _memory(shape, width, height, params):
-    """The larger of two phases (tracemalloc at 256^2 -> 512^2, 1024^2 -> 1024^2 and 2048^2:
-    17, 58 and 154 MiB, the estimate 1.06-1.2x that): the periodic component of the crop (C
-    floats and one channel's float64 temporaries, 28 B a pixel); then the noise, the phase and
-    one channel's spectrum (complex64 on the real-FFT grid: 4 B a pixel each), the spot, one
-    channel's image and the output (C floats) of the output's size, with the periodic
-    component, the sampled values and one channel's sorted copy, and 7 MiB for the matching's
-    tables and steps."""
+    """The larger of two phases (tracemalloc at 256^2 -> 512^2, 1024^2 -> 1024^2, 256^2 and
+    1024^2 -> 2048^2: 15, 44, 123 and 134 MiB, the estimate 1.1-1.5x that): the periodic
+    component of the crop (C floats and one channel's float64 temporaries, 28 B a pixel); then
+    the noise (then each channel's image, matched in place), the phase and one channel's
+    spectrum (complex64 on the real-FFT grid: 4 B a pixel each), the spot, 4 B a pixel to
+    spare and the output (C floats) of the output's size, with the periodic component, the
+    sampled values and one channel's sorted copy, and 7 MiB for the matching's tables and
+    steps."""
     h, w, c = shape
     crop = min(h, height) * min(w, width)
     values = min(h * w, 2 * SAMPLES)
