@@ -79,3 +79,19 @@ def test_a_manifest_plans_material_tasks_and_refuses_maps_on_them(photo, tmp_pat
     (tmp_path / "maps.csv").write_text("photo,maps,operation\nfloor.png,floor.png,material\n")
     with pytest.raises(batch.UsageError, match="maps.csv:2: maps: a material derives"):
         batch.plan(tmp_path / "maps.csv", tmp_path / "out")
+
+
+def test_an_exr_photo_is_delit_as_the_linear_light_it_holds(tmp_path, capsys):
+    """An EXR holds linear light: delight divides the light out of its values as they are
+    (encoded=False), not of an sRGB decoding of them; the Color EXR is that, linear."""
+    from texsynth.io import write_image
+    from texsynth.material import delight
+
+    lit = ramp_photo((48, 64))
+    write_image(tmp_path / "floor.exr", lit)
+    code, _, err = _run(capsys, "material", tmp_path / "floor.exr", "-o", tmp_path / "out",
+                        "--skip", "rectify", "tile", "maps")
+    assert code == 0, err
+    colour = read_photo(tmp_path / "out" / "floor_Color.exr")[:, :, :3]
+    assert np.abs(colour - delight(lit, encoded=False)).max() < 1e-3
+    assert np.abs(colour - delight(lit, encoded=True)).max() > 1e-2

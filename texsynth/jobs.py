@@ -517,7 +517,8 @@ def execute_material(job: Job, progress=None) -> tuple[list[str], tuple[str, ...
     made = material.photo_to_material(
         photo, size=p["size"], mask=None if mask is None else mask[:, :, 0] >= 0.5,
         corners=None if corners is None else np.reshape(corners, (4, 2)), focal_px=focal,
-        steps=p["steps"], method=job.method, seed=job.seed, progress=progress)
+        steps=p["steps"], method=job.method, seed=job.seed, linear=is_linear(job.photo),
+        progress=progress)
     first = Path(job.outputs[0])
     files = material.material_files(made, first.parent, first.stem[:-len("_Color")],
                                     fmt=p["format"], from_linear=is_linear(job.photo))

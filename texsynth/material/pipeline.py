@@ -227,7 +227,7 @@ def _rectify(photo, corners, focal_px, report) -> tuple[np.ndarray, str]:
 
 def photo_to_material(photo, *, size=None, mask=None, corners=None,
                       focal_px: float | None = None, steps: Sequence[str] = STEPS,
-                      method: str | None = None, seed: int = 0,
+                      method: str | None = None, seed: int = 0, linear: bool = False,
                       progress: Callable[[float, str], object] | None = None) -> Material:
     """A photo of a surface made into a tiling material: colour, normal, height, roughness
     and ambient occlusion (see the module for the steps).
@@ -255,6 +255,9 @@ def photo_to_material(photo, *, size=None, mask=None, corners=None,
         The synthesis method for ``size`` (one that copies pixels keeps a position map).
     seed : int
         Same inputs and seed, the same bits.
+    linear : bool
+        The photo's values are linear light (an EXR: ``texsynth.io.is_linear``), not
+        sRGB-encoded: delight divides the light out of them as they are (``encoded=False``).
     progress : callable(fraction, message), optional
         Returning False cancels (``texsynth.Cancelled``); spans follow each step's predicted
         time.
@@ -306,7 +309,7 @@ def photo_to_material(photo, *, size=None, mask=None, corners=None,
     else:
         done.append("heal: nothing masked" if "heal" in steps else "heal: left out")
     if "delight" in steps:
-        work = delight(work, seed=seed, progress=spans["delight"])
+        work = delight(work, encoded=not linear, seed=seed, progress=spans["delight"])
         done.append("delight: the light taken out")
     else:
         done.append("delight: left out")
