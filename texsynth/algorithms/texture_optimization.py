@@ -92,27 +92,11 @@ generated wall 1.29, 1.09, 1.34 (2 px; the distance alone at 2.8 px 1.27, 1.33, 
 s a run under load 12 where the distance alone took 15-17 s. The repeat peak beyond 24 px
 rose on the pavers' seed 1 to 0.41 (the photo's own 0.24; 0.34 with the distance alone).
 
-Why a whole region came out twice (issue 41: a 256 crop of the rock face, box-averaged by 2, to
-512, seed 0: the autocorrelation's peak beyond 24 px 0.30 against the photo's 0.13, at a shift
-of (184, -216), where 15 % of the output pixels show the same exemplar pixel as the pixel that
-far on): the position map after each step, the share of pixels whose source recurs at that
-shift, was 0.08 after the coarsest level's largest patch (its exemplar 32 px across, the output
-64: two copies of 721 and 562 px there cover more than the exemplar's 1024), 0.13 after its next
-patch size, 0.14 after the alignment, and the finer levels kept it (0.15). The usage term counts
-uses, not where they lie: a region copied twice is used twice, under the uniform 4. So the term
-also counts, near each exemplar patch, the large verbatim copies that use it (runs of grid
-patches whose sources advance with them, ``texsynth.blocks.region_shift.regions``, of at least
-``LARGE`` of the exemplar's area), each beyond the first at ``REPEAT`` times the term's unit.
-Peak, rock seeds 0-3: 0.30, 0.29, 0.36, 0.25 before; 0.09, 0.09, 0.10, 0.13 after (a copy of an
-eighth of the exemplar counted large: 0.12, 0.17, 0.12, 0.25); the brick wall (photo 0.33), seeds
-0 and 3: 0.43, 0.48 before; 0.25, 0.26 after.
-
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
   the distance, after a PCA);
 - the nearest-patch distance is taken on short patch descriptors (``PatchFeatures``);
 - usage counts are refreshed once per EM iteration, not per PatchMatch step;
-- the usage term also counts the large copies using a patch (ours, after the occurrence term);
 - each level and patch size ends with a non-averaged pass (Kaspar et al. 2015, 5): each pixel
   is the pixel of its best overlapping patch, the highest IRLS weight (usage term included)
   times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
@@ -153,7 +137,7 @@ from ..blocks.patchmatch import (
 )
 from ..blocks.period import texel_size
 from ..blocks.recut import recut_straight
-from ..blocks.region_shift import align_regions, regions
+from ..blocks.region_shift import align_regions
 from ..registry import Method, Param, register
 
 __all__ = ["texture_optimization", "optimize", "level_count", "METHOD"]
@@ -190,9 +174,6 @@ FEATURE_WEIGHT = 2.0
 #: The shortest straight cut between copies re-cut, and how far its new path may wander
 #: (pixels at the level).
 RUN, BAND = 16, 8
-#: A verbatim copy counts as large from this share of the exemplar's area, and each further
-#: large copy of an exemplar patch costs ``REPEAT`` times the usage term's unit.
-LARGE, REPEAT = 0.0625, 1.0
 
 
 def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
@@ -370,9 +351,8 @@ def _collage(z, nnf, score, grid, positions, tick):
 
 def _usage_penalty(nnf, grid, features, cost, uniformity):
     """Kaspar et al.'s occurrence term: uses of the exemplar patches near each patch z (a box of
-    the grid step), over the uniform usage, beyond 1, plus ``REPEAT`` times the large copies
-    using them beyond the first (``LARGE``), times lambda and the median distance; on the
-    lattice of ``features``."""
+    the grid step), over the uniform usage, beyond 1, times lambda and the median distance; on
+    the lattice of ``features``."""
     hs, ws = features.shape
     s = features.stride
     step = max(1, grid.p // 4 // s)
@@ -381,16 +361,7 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
     near = uniform_filter(uses, size=step, mode="constant") * step * step
     uniform = max(1.0, len(flat) * step * step / (hs * ws))
     scale = uniformity * float(np.median(cost))
-    # copies: the large verbatim copies (runs of grid patches whose sources advance with them)
-    # that use the exemplar patches near z; a second one repeats a whole region
-    spacing = max(1, grid.p // 4)
-    n, label = regions(nnf, spacing)
-    area = np.bincount(label.ravel(), minlength=n) * spacing ** 2
-    large = area[label[grid.index]] >= LARGE * hs * ws * s * s
-    big = np.bincount(flat[large], minlength=hs * ws).reshape(hs, ws).astype(np.float32)
-    copies = uniform_filter(big, size=step, mode="constant") * step * step
-    return (scale * (np.maximum(0.0, near / uniform - 1.0)
-                     + REPEAT * np.maximum(0.0, copies - 1.0))).astype(np.float32)
+    return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
 
 
 def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label):
