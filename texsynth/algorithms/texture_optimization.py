@@ -92,6 +92,19 @@ generated wall 1.29, 1.09, 1.34 (2 px; the distance alone at 2.8 px 1.27, 1.33, 
 s a run under load 12 where the distance alone took 15-17 s. The repeat peak beyond 24 px
 rose on the pavers' seed 1 to 0.41 (the photo's own 0.24; 0.34 with the distance alone).
 
+Where a whole region comes out twice (issue 41, open: a 256 crop of the rock face, box-averaged
+by 2, to 512, seed 0: the autocorrelation's peak beyond 24 px 0.30 against the photo's 0.13, at
+a shift of (184, -216)): the share of pixels whose exemplar pixel recurs at that shift, read on
+the position map after each step, is 0.08 after the coarsest level's largest patch (exemplar 32
+px across, output 64, where two copies of 721 and 562 px cover more than the exemplar's 1024),
+0.13 after its smaller patch, 0.14 after the alignment, and the finer levels keep it (0.15): the
+double copy forms at the coarsest level, in the EM's growth, not in the finer levels. Tried and
+left out: the usage term also charging each large copy (runs of grid patches whose sources
+advance with them, from a sixteenth to a quarter of the exemplar's area) beyond the first; it
+took the peaks, rock seeds 0-3, from 0.30, 0.29, 0.36, 0.25 to 0.09, 0.09, 0.10, 0.13, but the
+outputs became wide fields of the photo's one flat grey patch (the charge falls on every copy,
+so the smooth patch that matches anywhere wins).
+
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
   the distance, after a PCA);
