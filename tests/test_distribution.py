@@ -18,7 +18,7 @@ import pytest
 import addon_build
 
 ALLOWED = re.compile(r"blender_manifest\.toml|LICENSE|__init__\.py|dependencies\.py|versions\.py"
-                     r"|operators/[a-z_]+\.py|texsynth/([a-z_]+/)*[a-z_]+\.py|wheels/[^/]+\.whl")
+                     r"|operators/([a-z_]+/)?[a-z_]+\.py|texsynth/([a-z_]+/)*[a-z_]+\.py|wheels/[^/]+\.whl")
 
 
 @pytest.fixture(scope="module")

@@ -293,8 +293,9 @@ class PatchMatrix:
         b, n = len(query), len(self.matrix)
         tol = TOLERANCE * const
         nb = self.bound_columns
-        if self._bounds is None or self._bounds.size < b * n:
-            self._bounds = np.empty(max(b * n, self.batch_bytes // 4), np.float32)
+        if self._bounds is None or self._bounds.size < b * n:   # grown a quarter at a time,
+            grown = 0 if self._bounds is None else self._bounds.size * 5 // 4   # to the cap
+            self._bounds = np.empty(max(b * n, min(grown, self.batch_bytes // 4)), np.float32)
             self._kept = np.empty(self._bounds.size, bool)
         lower = self._bounds[:b * n].reshape(b, n)
         np.matmul(query[:, :nb], self.matrix[:, :nb].T, out=lower)
