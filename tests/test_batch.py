@@ -210,3 +210,17 @@ def test_the_longest_predicted_tasks_are_handed_to_dask_first(tmp_path, monkeypa
     monkeypatch.setattr(distributed, "as_completed", lambda futures: futures)
     batch.run(jobs, client=client)
     assert client.order == [9, 4, 1]
+
+
+def test_a_local_cluster_has_a_worker_per_core_within_the_tasks_and_memory(monkeypatch):
+    """Tasks use about one core each (the pool overlaps little): one worker process per core,
+    none idle for a short batch, and no more than the memory budget holds of the peaks."""
+    monkeypatch.setattr(batch, "CORES", 4)
+    monkeypatch.setenv("TEXSYNTH_MEMORY_BUDGET", str(3 << 30))
+    jobs = [batch.Job(photo="a.png", outputs=(f"{k}.png",), forecast=(1.0, 1 << 29))
+            for k in range(6)]
+    assert batch.default_workers(jobs) == 4
+    assert batch.default_workers(jobs[:2]) == 2
+    big = [dataclasses.replace(job, forecast=(1.0, 1 << 30)) for job in jobs]
+    assert batch.default_workers(big) == 3
+    assert batch.forecast(big)[1] == 3 * (1 << 30)

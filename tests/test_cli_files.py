@@ -253,3 +253,25 @@ def test_ctrl_c_at_any_moment_is_one_line_and_exit_130(tmp_path, delay):
     assert run.returncode == 130
     _one_error_line(err, "interrupted")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png"]
+
+
+def _default_sigint():  # a non-interactive shell's background jobs ignore SIGINT; a terminal's
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize("delay", [0.1, 0.3, 0.6])  # while Python imports the package
+def test_ctrl_c_while_python_m_texsynth_starts_is_one_line_and_exit_130(tmp_path, delay):
+    write_png(tmp_path / "photo.png", ramp_photo((64, 64)))
+    command = [sys.executable, "-m", "texsynth", "-q", "synthesize", str(tmp_path / "photo.png"),
+               "-o", str(tmp_path / "o.png"), "--size", "2048"]
+    for _ in range(5):  # on a loaded machine, the first 0.1 s may still be Python's own start
+        run = subprocess.Popen(command, cwd=REPO, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint)
+        time.sleep(delay)
+        run.send_signal(signal.SIGINT)
+        _, err = run.communicate(timeout=60)
+        if "texsynth" in err:  # else Python's start (site, runpy) had the Ctrl+C, not texsynth
+            break
+    assert run.returncode == 130
+    _one_error_line(err, "interrupted")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png"]

@@ -13,19 +13,31 @@ Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 
 from __future__ import annotations
 
+import sys
+
 # ruff: noqa: I001  (algorithms first: importing it registers every method, in panel order)
-from . import algorithms, budget, validation
-from .algorithms import composite, cooccurrence
-from .algorithms.composite import segmentation
-from . import material
-from .api import synthesize, synthesize_positions
-from .plane import PlaneEstimate, camera_pose, estimate_plane, focal_px_from_file, rectify
-from .positions import apply_positions, positions_image
-from .progress import Cancelled, Progress
-from .registry import Method, Param, get_method, methods
-from .stack import synthesize_stack
-from .tileable import make_tileable, make_tileable_positions
-from .validation import MAX_SIDE, memory_budget
+try:
+    from . import algorithms, budget, validation
+    from .algorithms import composite, cooccurrence
+    from .algorithms.composite import segmentation
+    from . import material
+    from .api import synthesize, synthesize_positions
+    from .plane import PlaneEstimate, camera_pose, estimate_plane, focal_px_from_file, rectify
+    from .positions import apply_positions, positions_image
+    from .progress import Cancelled, Progress
+    from .registry import Method, Param, get_method, methods
+    from .stack import synthesize_stack
+    from .tileable import make_tileable, make_tileable_positions
+    from .validation import MAX_SIDE, memory_budget
+except (KeyboardInterrupt, ImportError) as error:  # Ctrl+C while ``python -m texsynth``
+    # loads numpy and scipy (numpy reports one in its own imports as an ImportError)
+    cause = error
+    while cause is not None and not isinstance(cause, KeyboardInterrupt):
+        cause = cause.__cause__ or cause.__context__
+    if cause is None or sys.argv[:1] != ["-m"]:  # "-m" while Python locates the module
+        raise
+    print("texsynth: interrupted; nothing was written", file=sys.stderr)
+    raise SystemExit(130) from None
 
 __all__ = [
     "synthesize",

@@ -1,8 +1,16 @@
-"""``python -m texsynth``: the ``texsynth`` command (:mod:`texsynth.cli`) without installing it."""
+"""``python -m texsynth``: the ``texsynth`` command (:mod:`texsynth.cli`) without installing it.
+
+A Ctrl+C while Python loads the package and the command ends as a later one does
+(:mod:`texsynth.cli`): one line and exit status 130 (the package's own imports: its
+``__init__``; the command's: here).
+"""
 
 import sys
 
-from .cli import main
-
 if __name__ == "__main__":
+    try:
+        from .cli import main
+    except KeyboardInterrupt:
+        print("texsynth: interrupted; nothing was written", file=sys.stderr)
+        sys.exit(130)
     sys.exit(main())

@@ -65,6 +65,7 @@ from .jobs import (
     preflight,
     run_job,
 )
+from .validation import memory_budget
 
 __all__ = ["OPERATIONS", "Defaults", "Job", "Summary", "plan", "forecast", "run",
            "run_job", "is_done"]
@@ -153,7 +154,7 @@ def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]
     """
     known = [job.forecast for job in jobs if job.forecast is not None]
     return (sum(seconds for seconds, _ in known),
-            max((peak for _, peak in known), default=0.0) * (workers or default_workers()))
+            max((peak for _, peak in known), default=0.0) * (workers or default_workers(jobs)))
 
 
 #: A manifest's columns (docs/BATCH.md).
@@ -301,9 +302,8 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
 
     ``client``: a ``dask.distributed.Client`` to use; else ``scheduler`` (``tcp://host:port``
     of a running ``dask scheduler``), else a local cluster of ``workers`` processes (default:
-    :func:`default_workers`) with one thread each (the core's own thread pool uses the cores
-    inside a task). The photos' and outputs' paths must be the same on every worker (a shared
-    folder).
+    :func:`default_workers` of the jobs), one task at a time each, sharing the cores. The
+    photos' and outputs' paths must be the same on every worker (a shared folder).
     ``progress(fraction, message)`` hears of each finished task.
 
     Raises ``ValueError`` for a ``scheduler`` that is no scheduler address, before any work,
@@ -334,7 +334,8 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
             if logs is None:  # work to do: Dask's logs to the file, the cluster starting
                 logs = _route_logs(_log_path(todo))
                 if client is None:  # ... while the main thread hashes the other inputs
-                    starter = _Start(address, workers, _log_path(todo))
+                    starter = _Start(address, workers or default_workers(jobs),
+                                     _log_path(todo))
         summary.skipped = len(jobs) - len(todo)
         report(summary.skipped / max(len(jobs), 1),
                f"{summary.skipped} of {len(jobs)} already done")
@@ -364,15 +365,22 @@ def _remove_stale(jobs: list[Job]) -> None:
             stale.unlink(missing_ok=True)  # left by killed tasks; every task has ended
 
 
-def default_workers() -> int:
-    """Worker processes of a local cluster: one per 4 cores, at least one.
+def default_workers(jobs: list[Job] | None = None) -> int:
+    """Worker processes of a local cluster: one per core, no more than the ``jobs``, nor more
+    than :func:`~texsynth.validation.memory_budget` holds of the largest predicted peak.
 
-    A task already uses every core through the core's thread pool (``blocks/parallel.py``). On
-    2 cores, 6 tasks on 2 worker processes took 1.38x as long as on one (24.7 s against
-    17.9 s, 256 x 256 ``multiscale_mrf``, load average 8-10); larger machines are untested:
-    ``--workers`` sets it.
+    The core's thread pool overlaps little of a task (its Python parts hold the GIL): a task of
+    the batch section used 1.0 s of CPU per second of wall time with 2 pool threads. On 2
+    cores, 6 tasks (256 -> 768 ``multiscale_mrf``, quiet machine) took 21.9 s on 2 worker
+    processes of 1 thread against 34.9 s on 1 of 2 threads and 30.6 s one by one in one
+    process. A worker's threads are the cores it is left (:func:`_worker_environment`).
     """
-    return max(1, (os.cpu_count() or 1) // 4)
+    workers = min(CORES, len(jobs)) if jobs else CORES
+    peak = max((job.forecast[1] for job in jobs or () if job.forecast is not None),
+               default=0.0)
+    if peak > 0:
+        workers = min(workers, int(memory_budget() // peak))
+    return max(1, workers)
 
 
 def scheduler_address(text: str) -> str:
@@ -464,8 +472,8 @@ def _connect(address: str, timeout: float | None = None):
 
 
 def local_cluster(workers: int | None = None, log: str | os.PathLike | None = None):
-    """The local cluster of a batch: ``workers`` processes (:func:`default_workers`) of one
-    thread each, Dask's log lines to the file ``log`` (or nowhere), texsynth imported in each
+    """The local cluster of a batch: ``workers`` processes (:func:`default_workers`), one task
+    at a time each, Dask's log lines to the file ``log`` (or nowhere), texsynth imported in each
     worker while it starts, glibc's heap kept (:func:`_worker_environment`)."""
     import dask
     from distributed import LocalCluster

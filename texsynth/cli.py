@@ -537,8 +537,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                      help="a running `dask scheduler` (default: a local cluster)")
     sub.add_argument("--workers", type=int, default=None,
-                     help="local cluster: worker processes (default: one per 4 cores, at "
-                          "least one; each task uses every core of its machine)")
+                     help="local cluster: worker processes (default: one per core, at most one "
+                          "per task, as many as the memory budget holds)")
     _add_method_options(sub)
 
     sub = command("methods", run_methods, "the synthesis methods and their parameters")
