@@ -9,11 +9,10 @@
     python3 addon_build.py test         what CI runs: build, ruff, the pip package (pip-check),
                                         pytest (Blender 5.0 = bpy 5.0.1), then what test-compat
                                         runs
-    python3 addon_build.py test-compat  build, then the Blender tests in Blender 4.2.0, 4.5 LTS
+    python3 addon_build.py test-compat  build, then the Blender tests in Blender 4.2.13, 4.5 LTS
                                         and 5.3 (bpy from PyPI, each in its own
                                         .venv-bpy-VERSION), and the core tests on 5.3's Python
-                                        3.13 and numpy 2.3 with the bundled cp313 wheels, and
-                                        the numpy check in 5.3 with the numpy pip resolves
+                                        3.13 and numpy 2.3 with the bundled cp313 wheels
     python3 addon_build.py pip-check    the checkout pip-installed into a throwaway venv, and the
                                         texsynth command run there
 
@@ -74,15 +73,16 @@ PLATFORMS = {
 ZIP_BUDGET = 150 << 20
 
 #: The other Blenders the Blender tests run in (test-compat), as the bpy module from PyPI:
-#: bpy release -> (its Python, the numpy that Blender release bundles). The bpy wheels accept a
-#: range (4.2-5.0: numpy < 2; 5.2+: >= 2.2, < 3), and pip would pick its newest (2.5 for 5.3,
-#: beyond what the bundled scipy 1.15 supports, so SciPy warns); the venvs get what the Blender
-#: downloads ship instead: 2.3.4 from 5.2 on (NUMPY_VERSION in Blender's versions.cmake).
+#: bpy release -> (its Python, the numpy that Blender release bundles: NUMPY_VERSION in
+#: Blender's versions.cmake). The bpy wheels accept a range (4.2-5.0: numpy < 2; 5.2+: >= 2.2,
+#: < 3); the venvs get the numpy of the Blender downloads, except NEWEST_BPY's, which gets the
+#: numpy pip resolves (2.5 for 5.3: what a headless user of the PyPI module has); the core
+#: tests run on NEWEST_BPY's Python with its download's numpy.
 #: Not bpy 5.1 (Python 3.13, numpy 1.26): PyPI has no numpy 1.26 wheel for Python 3.13.
-COMPAT_BPY = {"4.2.0": ("3.11", "1.24.3"), "4.5.15": ("3.11", "1.26.4"),
+COMPAT_BPY = {"4.2.13": ("3.11", "1.24.3"), "4.5.15": ("3.11", "1.26.4"),
               "5.3.0": ("3.13", "2.3.4")}
-#: The newest of COMPAT_BPY: the core tests also run on its Python and numpy, with the bundled
-#: wheels for that Python.
+#: The newest of COMPAT_BPY: its Blender tests run with the numpy pip resolves, the core tests
+#: on its Python and numpy with the bundled wheels for that Python.
 NEWEST_BPY = "5.3.0"
 
 
@@ -437,12 +437,14 @@ def compat(bases: dict[str, str | None]) -> None:
             print(f"\n--- skipped: Blender {bpy_version} (no Python {python_version})",
                   flush=True)
             continue
-        python = _ensure_venv(REPO / f".venv-bpy-{bpy_version}",
-                              [f"bpy=={bpy_version}", f"numpy=={numpy_version}", "pytest",
+        as_pip = bpy_version == NEWEST_BPY  # numpy as pip resolves it (a new venv: newest)
+        python = _ensure_venv(REPO / f".venv-bpy-{bpy_version}{'-pip' if as_pip else ''}",
+                              [f"bpy=={bpy_version}",
+                               "numpy" if as_pip else f"numpy=={numpy_version}", "pytest",
                                "hypothesis"],  # tests/blender/test_fuzz_followers.py
                               base=base)
-        print(f"\n--- Blender {bpy_version} (Python {python_version}, numpy {numpy_version}) "
-              "---", flush=True)
+        print(f"\n--- Blender {bpy_version} (Python {python_version}, numpy "
+              f"{'as pip resolves' if as_pip else numpy_version}) ---", flush=True)
         _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", REPO / "tests" / "blender",
              cwd=REPO)
     python_version, numpy_version = COMPAT_BPY[NEWEST_BPY]
@@ -450,7 +452,6 @@ def compat(bases: dict[str, str | None]) -> None:
     if base is None:
         print(f"\n--- skipped: the core tests on Python {python_version}", flush=True)
         return
-    pip_numpy(base)
     python = _ensure_venv(REPO / f".venv-py{python_version}",
                           [f"numpy=={numpy_version}", "pytest", "hypothesis",
                            "pillow",  # the pip package's JPEG reader: test_plane_photos, test_cli
@@ -461,21 +462,6 @@ def compat(bases: dict[str, str | None]) -> None:
     tests = REPO / "tests"
     _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests, "--ignore",
          tests / "blender", "--ignore", tests / "test_distribution.py", cwd=REPO)
-
-
-#: The Blender test run in bpy NEWEST_BPY with the numpy pip resolves for it (unpinned): the
-#: bundle fits it, or the extension names the mismatch.
-PIP_NUMPY_TEST = ("tests/blender/test_dependencies.py::"
-                  "test_the_numpy_here_fits_the_bundled_scipy_or_the_mismatch_is_named")
-
-
-def pip_numpy(base: str) -> None:
-    """PIP_NUMPY_TEST in bpy NEWEST_BPY as pip installs it from PyPI, numpy as pip chooses."""
-    python = _ensure_venv(REPO / f".venv-bpy-{NEWEST_BPY}-pip",
-                          [f"bpy=={NEWEST_BPY}", "numpy", "pytest"], base=base)
-    print(f"\n--- Blender {NEWEST_BPY} with the numpy pip resolves ---", flush=True)
-    _run(python, "-m", "pytest", "-q", "-p", "no:cacheprovider", REPO / PIP_NUMPY_TEST,
-         cwd=REPO)
 
 
 def _wheels_here(python: str) -> list[str]:

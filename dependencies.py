@@ -2,10 +2,9 @@
 
 Blender installs the wheels of every enabled extension into one shared site-packages and keeps,
 of each package, only the highest version. So the scipy or OpenEXR that TexSynth imports may be
-another extension's: newer, or built for another numpy, or (Blender 4.2.0 ignores a wheel's
-Python tag) built for another Python. :func:`problem` finds out before the operators are loaded;
-register() then shows the problem in the TexSynth panel and the operator reports it, instead of
-the extension failing to load with a traceback.
+another extension's: newer, or built for another numpy. :func:`problem` finds out before the
+operators are loaded; register() then shows the problem in the TexSynth panel and the operator
+reports it, instead of the extension failing to load with a traceback.
 
 ``BUNDLED`` is the one list of bundled packages: addon_build.py downloads these releases for
 every platform and writes blender_manifest.toml's ``wheels`` from them.
@@ -23,22 +22,18 @@ import bpy
 from .versions import requirement, satisfies
 
 #: Package -> {Python version: release}; the wheels are downloaded unmodified from PyPI.
-#: The Python 3.11 release must be the highest: Blender 4.2.0 ignores the Python tag and
-#: installs, of one package, the highest version (on a tie, the name sorting last: cp313), so
-#: the Python 3.13 wheels are the previous patch release. scipy 1.15 is the last release that
-#: supports Blender 4.2's numpy 1.24 (1.16 needs numpy >= 1.25.2); it supports numpy >= 1.23.5,
-#: < 2.5, which holds the numpy of every Blender from 4.2 on (4.5 and 5.1: 1.26; 5.2 and 5.3:
-#: 2.3.4). The bpy module 5.2+ accepts numpy < 3, and pip gives bpy 5.3.0 numpy 2.5.5: there
-#: :func:`problem` names the mismatch (:func:`numpy_problem`) instead of SciPy's import warning.
-#: A cp313 scipy that fits it (1.16.3: numpy >= 1.25.2, < 2.6; 1.17: >= 1.26.4, < 2.7, from
-#: their METADATA) must wait until blender_version_min is past 4.2.0, whose Python-blind pick
-#: would install it into Python 3.11 (bpy 4.2.0's bl_pkg/bl_extension_ops.py filters wheels by
-#: platform only, "TODO: Match Python & ABI tags", and its wheel_manager keeps a package's
-#: highest version; bpy 4.2.13, 4.2.23 and 4.3.0 skip wheels of another Python).
+#: scipy 1.15 is the last release that supports Blender 4.2's numpy 1.24 (1.16 needs numpy >=
+#: 1.25.2): it serves Python 3.11 (Blender 4.2 to 5.0; 4.5 ships numpy 1.26). For Python 3.13
+#: (Blender 5.1 on: numpy 1.26, then 2.3.4 from 5.2) scipy 1.16.3 (numpy >= 1.25.2, < 2.6, from
+#: its METADATA) also holds the numpy 2.5 that pip gives the bpy module 5.3 from PyPI. Two
+#: releases of one package for two Pythons need Blender 4.2.13 or later
+#: (blender_version_min): 4.2.0 to 4.2.12 install a package's highest version whatever its
+#: Python tag (bpy 4.2.0's bl_pkg/bl_extension_ops.py: "TODO: Match Python & ABI tags"),
+#: 4.2.13 first skips the wheels of another Python.
 #: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
 #: serves every Python and platform.
 BUNDLED = {
-    "scipy": {"3.11": "1.15.3", "3.13": "1.15.2"},
+    "scipy": {"3.11": "1.15.3", "3.13": "1.16.3"},
     "OpenEXR": {"3.11": "3.5.3", "3.13": "3.5.2"},
     "exifread": {"3.11": "3.5.1", "3.13": "3.5.1"},
 }

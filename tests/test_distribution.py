@@ -103,16 +103,16 @@ def test_the_repository_listing_offers_every_zip_for_its_platform(zips):
 
 def test_the_manifest_is_complete():
     manifest = tomllib.loads(addon_build.MANIFEST.read_text())
-    assert manifest["blender_version_min"] == "4.2.0"
+    assert manifest["blender_version_min"] == "4.2.13"
     assert manifest["license"] == ["SPDX:GPL-3.0-or-later"]
     assert list(manifest["permissions"]) == ["files"]
     for key in ("tagline", "website", "copyright", "tags", "maintainer"):
         assert manifest[key], key
 
 
-def _blender_42_dedup():
-    """The rule by which Blender picks one wheel per package name, unchanged since 4.2.0 (where
-    the wheels are not first filtered by Python tag); read from the bpy 5.0 wheel."""
+def _blender_dedup():
+    """The rule by which Blender picks one wheel per package name among the wheels of its own
+    Python (4.2.13 on filter them first); read from the bpy 5.0 wheel."""
     scripts = addon_build._bl_pkg_scripts()
     spec = importlib.util.spec_from_file_location(
         "wheel_manager", scripts / "modules" / "_bpy_internal" / "extensions" /
@@ -122,13 +122,17 @@ def _blender_42_dedup():
     return module.wheel_list_deduplicate_as_skip_set
 
 
-def test_blender_4_2_0_which_ignores_python_tags_still_picks_the_python_3_11_wheels(zips):
-    skip = _blender_42_dedup()
+def test_each_python_gets_its_own_bundled_release_of_every_package(zips):
+    skip = _blender_dedup()
+    bundled = addon_build.bundled()
     for platform, (_, manifest) in zips.items():
-        wheels = manifest["wheels"]
-        kept = [w for w in wheels if w not in skip([("texsynth", wheels)])]
-        assert sorted(re.search(r"-(cp3\d+|py3)-", w)[1] for w in kept) == \
-            ["cp311", "cp311", "py3"], (platform, kept)
+        for python in ("3.11", "3.13"):
+            wheels = [w for w in manifest["wheels"]
+                      if addon_build.serves(addon_build.wheel_key(Path(w).name)[2], python)]
+            kept = [w for w in wheels if w not in skip([("texsynth", wheels)])]
+            releases = {Path(w).name.split("-")[0]: Path(w).name.split("-")[1] for w in kept}
+            assert releases == {package.lower(): release[python]
+                                for package, release in bundled.items()}, (platform, python)
 
 
 def test_the_bundled_wheels_support_the_numpy_of_every_blender_the_tests_run_in(zips):

@@ -18,7 +18,7 @@ def _site_packages() -> Path:
 
 
 def test_blender_installed_the_wheels_built_for_this_python(addon):
-    # Blender 4.2.0 ignores a wheel's Python tag: a cp313 scipy here would not import.
+    # Two Pythons' releases differ (scipy 1.15.3 and 1.16.3): this Python's, not the other's.
     python = f"{sys.version_info.major}.{sys.version_info.minor}"
     for package, releases in addon.dependencies.BUNDLED.items():
         (info,) = _site_packages().glob(f"{package.lower()}-*.dist-info")
@@ -33,7 +33,7 @@ def test_blender_installed_the_wheels_built_for_this_python(addon):
 
 def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
     # SciPy warns at import when numpy is outside the range its release supports, which its
-    # wheel declares (scipy 1.15: numpy >= 1.23.5, < 2.5; bpy 5.3 accepts numpy < 3).
+    # wheel declares (scipy 1.15.3: numpy >= 1.23.5, < 2.5; 1.16.3: >= 1.25.2, < 2.6).
     import numpy
     import scipy
 
@@ -46,8 +46,8 @@ def test_the_bundled_scipy_supports_the_numpy_this_blender_ships(addon):
 
 
 def test_the_numpy_here_fits_the_bundled_scipy_or_the_mismatch_is_named(addon):
-    # What addon_build.py test-compat also runs in bpy 5.3.0 with the numpy pip resolves for
-    # it (2.5.5, beyond the cp313 scipy 1.15.2's < 2.5): the extension says so, by name.
+    # addon_build.py test-compat runs bpy 5.3.0 with the numpy pip resolves (2.5.5, which the
+    # cp313 scipy 1.16.3 holds); a numpy beyond the bundled scipy's range is named.
     import numpy
     import scipy
 
