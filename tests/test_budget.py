@@ -28,6 +28,7 @@ def loadavg(monkeypatch, tmp_path):
     path = tmp_path / "loadavg"
     monkeypatch.setattr(budget, "LOADAVG", path)
     monkeypatch.setattr(budget, "CORES", 2)
+    monkeypatch.setattr(budget, "PROC", tmp_path / "no-proc")  # the plain count
     monkeypatch.setattr(budget, "_load", None)
 
     def write(text):
@@ -47,6 +48,33 @@ def test_the_factor_follows_the_tasks_that_want_a_core(loadavg, text, expected):
     loadavg(text)
     assert budget.contention() == expected
     assert budget.machine_factor() == budget.speed() * expected
+
+
+def _task(root, pid, state, nice, group):
+    """A task of a /proc of the test's own: its stat (state, nice) and its autogroup."""
+    task = root / str(pid) / "task" / str(pid)
+    task.mkdir(parents=True)
+    fields = [state] + ["0"] * 15 + [str(nice)] + ["0"] * 30
+    for stat in (task / "stat", root / str(pid) / "stat"):
+        stat.write_text(f"{pid} (py) thon) " + " ".join(fields) + "\n")
+    root.joinpath(str(pid), "autogroup").write_text(f"/autogroup-{group} nice 0\n")
+    return root / str(pid)
+
+
+@pytest.mark.parametrize("mine, expected", [(0, 1.52), (-19, 1.0)])
+def test_niced_tasks_of_the_group_slow_a_run_by_their_share(loadavg, tmp_path, monkeypatch,
+                                                               mine, expected):
+    proc = tmp_path / "proc"
+    own = _task(proc, 9, "R", mine, 4)
+    (proc / "self").symlink_to(own)
+    _task(proc, 10, "R", 15, 4)             # a background job, nice 15: a thirtieth of a task
+    _task(proc, 11, "R", 0, 4)              # a job at nice 0: a task, 1.25^-19 of one at -19
+    _task(proc, 12, "S", 0, 4)              # asleep: none
+    _task(proc, 13, "R", 0, 1)              # another session's two tasks: one group
+    _task(proc, 14, "R", 0, 1)
+    monkeypatch.setattr(budget, "PROC", proc)
+    loadavg("8.00 8.00 8.00 9/300 999\n")
+    assert budget.contention() == pytest.approx(expected, abs=0.02)
 
 
 def test_the_load_is_kept_for_a_while_then_read_again(loadavg):

@@ -211,12 +211,13 @@ def _cost(shape, width, height, params):
     The pixel and batch terms refitted (issue 45: 2e-5 and 3e-4 had predicted 16384 x 16 from
     32 x 32 at 0.31-0.38 of its time, 192 x 192 at 0.36) on three shapes measured in one
     sitting (``benchmarks/sections/predictions.py``): 96 x 96 from 48 x 48, 192 x 192 from
-    32 x 32, 16384 x 16 from 32 x 32, at 0.78-1.2 of each."""
+    32 x 32, 16384 x 16 from 32 x 32, at 0.78-1.2 of each; the batch term 2.6e-3 (1e-3 had told
+    the strip 0.51 of its quiet 31.7 s, the squares 0.67-0.82)."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
     units = width * height * windows * min(k, 7) ** 2 * (c + 1)
-    return 0.05 + 3.4e-10 * units + 8.0e-5 * width * height + 1.0e-3 * _batches(
+    return 0.05 + 3.4e-10 * units + 8.0e-5 * width * height + 2.6e-3 * _batches(
         windows, width, height)
 
 

@@ -150,6 +150,11 @@ __all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS", "TABLE_
 REFINE_PIXELS = 512 * 512
 #: Visits per pixel on such a level.
 REFINE_VISITS = 2
+#: Reference seconds of one round of ``multigrid.relax`` beyond its pixels' work (its lattice
+#: draw, the whole-grid need and confidence arrays, a visit's calls): a level takes about
+#: spacing^2 x T rounds whatever its size (issue 45: 64 -> 256 and 2048 x 32 had been predicted
+#: at 0.52 and 0.37 of their time, 32 -> 512 at 1.14, the per-pixel term alone).
+ROUND_COST = 0.0247
 #: A level's fixed work in reference seconds, for the progress only (its build, its first
 #: passes: at 128 -> 256 the coarsest level took 0.024 of the time the model puts at 2.05 s).
 LEVEL_SECONDS = 0.05
@@ -536,7 +541,8 @@ def _cost(shape, width, height, params):
     the passes over the whole exemplar (centring, windows, the random start's draw); per grid
     pixel of an aligned level (``_aligned``), its K border pairs (0.6 s for a 256 x 256 grid
     of the brick wall here under load 7, taken as half that quiet, times the 2.6 from this
-    machine's quiet runs to the reference). Fitted on
+    machine's quiet runs to the reference); per level, the relaxation's rounds
+    (``ROUND_COST``). Fitted on
     64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
     18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
@@ -555,15 +561,19 @@ def _level_costs(shape, width, height, params) -> list[float]:
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     aligned = _aligned(width, height, n_levels, windows)
     costs = []
+    spacing = params["radius"] + 1                 # multigrid.relax's lattice step
     for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
         if gh * gw > REFINE_PIXELS:
+            t = min(params["visits"], REFINE_VISITS)
             visits = 3.0e-9 * (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
                                * (1.35 if lv in windows else 1.0))
         else:
-            visits = 5.1e-9 * (gh * gw * params["visits"] * per_visit
+            t = params["visits"]
+            visits = 6.9e-9 * (gh * gw * params["visits"] * per_visit
                                * (params["random_candidates"] + 6))
         table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
-        costs.append(visits + table + 4e-7 * k * aligned.get(lv, 0))
+        rounds = ROUND_COST * spacing ** 2 * t     # the lattice's rounds, whatever the grid
+        costs.append(visits + table + 4e-7 * k * aligned.get(lv, 0) + rounds)
     return costs
 
 

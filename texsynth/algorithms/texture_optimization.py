@@ -165,7 +165,12 @@ SOURCES = 1 << 21
 #: output pixel at two sizes, a search table's lattice point, and a pixel of a level whose
 #: copies are aligned): see ``_memory``, ``_cost``.
 MEM_OUT, MEM_OUT_C = 100, 16
-MEM_SEARCH, SEARCH_PIXELS = 350, 1 << 18
+MEM_SEARCH, SEARCH_PIXELS = 620, 1 << 18
+#: Output pixels of the runs the time's coefficients were fitted on (2048 x 2048); smaller
+#: outputs take less per pixel, as (pixels / FIT_PIXELS)^0.12 (issue 45: 64 -> 256 and
+#: 32 -> 512, quiet 1.08 and 2.63 s, had been told 1.0 and 1.6 times that at the reference's
+#: speed), beside 1.2 s of fixed work (the joints' measure, the levels' set-up).
+FIT_PIXELS = 2048 * 2048
 COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
@@ -527,7 +532,9 @@ def _memory(shape, width, height, params):
     searches' working set, which grows with the output up to a cap: ``MEM_SEARCH`` bytes for
     each of the first ``SEARCH_PIXELS`` output pixels (issue 45: from a 32^2 exemplar, traced
     19, 72 and 91 MiB beyond the rest at 256^2, 512^2 and 1024^2, resident 1.2-1.5x that;
-    without it the model read 0.24-0.43 of the resident peak there)."""
+    without it the model read 0.24-0.43 of the resident peak there; at 350 bytes, 0.50-0.59 of
+    the resident at 64 -> 256, 2048 x 32 and 32 -> 512: 71, 71 and 255 MiB; 128 -> 256 peaks
+    at 48, so 620 bytes, not the 850 those three alone ask)."""
     shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
     rows, cols = _tables(shape, params)[0]
@@ -551,8 +558,9 @@ def _cost(shape, width, height, params):
     work = params["iterations"] / 3 * c / 3
     table = sum(r * k for r, k in _tables(shape, params))
     align = COST_ALIGN * params["sizes"] * width * height / 3 * c / 3
-    return 0.2 + (COST_OUT * params["sizes"] / 2 * width * height + COST_TABLE * table) * work \
-        + align
+    small = min(1.0, width * height / FIT_PIXELS) ** 0.12
+    return 1.2 + (COST_OUT * small * params["sizes"] / 2 * width * height
+                  + COST_TABLE * table) * work + align
 
 
 METHOD = register(Method(
