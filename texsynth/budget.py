@@ -144,14 +144,16 @@ def _weight(nice: int) -> float:
 def _weighted_runnable() -> float | None:
     """The tasks runnable at this instant, each counted as its share beside this process
     (:func:`_weight` of its nice over this process's), this one included; another autogroup
-    with runnable tasks counts as one (the kernel shares a core between groups, then within a
-    group by nice); None where ``PROC`` does not say. Ours, a deviation from the plain
+    with runnable tasks counts as one where the kernel's autogroups are on (it shares a core
+    between groups, then within a group by nice); None where ``PROC`` does not say. Ours, a deviation from the plain
     count: a benchmark run at nice -19 beside nice-15 processes of its own group had been
     told their load (3x its time at load 6 on 2 cores) and ran at its quiet speed."""
     try:
         own = PROC / "self"
-        group = own.joinpath("autogroup").read_text().split()[0] \
-            if own.joinpath("autogroup").exists() else None
+        autogroups = PROC.joinpath("sys/kernel/sched_autogroup_enabled")
+        grouped = own.joinpath("autogroup").exists() and (
+            not autogroups.exists() or autogroups.read_text().strip() != "0")
+        group = own.joinpath("autogroup").read_text().split()[0] if grouped else None
         mine = _weight(int(own.joinpath("stat").read_text().rsplit(")", 1)[1].split()[16]))
         total, groups = 0.0, set()
         for stat in PROC.glob("[0-9]*/task/[0-9]*/stat"):
