@@ -224,3 +224,15 @@ def test_a_local_cluster_has_a_worker_per_core_within_the_tasks_and_memory(monke
     big = [dataclasses.replace(job, forecast=(1.0, 1 << 30)) for job in jobs]
     assert batch.default_workers(big) == 3
     assert batch.forecast(big)[1] == 3 * (1 << 30)
+
+
+def test_the_batch_forecast_deals_the_tasks_to_the_workers(monkeypatch):
+    """Two workers on two cores finish six equal tasks in three rounds, each task slower on
+    its one core: less than one after another, more than half of it."""
+    monkeypatch.setattr(batch, "CORES", 2)
+    jobs = [batch.Job(photo="a.png", outputs=(f"{k}.png",), forecast=(1.0, 1.0))
+            for k in range(6)]
+    assert batch.forecast(jobs, workers=1)[0] == 6.0
+    assert batch.forecast(jobs, workers=2)[0] == pytest.approx(3 * batch.POOL_GAIN)
+    longest = [dataclasses.replace(jobs[0], forecast=(10.0, 1.0))] + jobs[1:]
+    assert batch.forecast(longest, workers=2)[0] == pytest.approx(10 * batch.POOL_GAIN)

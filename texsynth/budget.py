@@ -145,9 +145,10 @@ def _weighted_runnable() -> float | None:
     """The tasks runnable at this instant, each counted as its share beside this process
     (:func:`_weight` of its nice over this process's), this one included; another autogroup
     with runnable tasks counts as one where the kernel's autogroups are on (it shares a core
-    between groups, then within a group by nice); None where ``PROC`` does not say. Ours, a deviation from the plain
-    count: a benchmark run at nice -19 beside nice-15 processes of its own group had been
-    told their load (3x its time at load 6 on 2 cores) and ran at its quiet speed."""
+    between groups, then within a group by nice); None where ``PROC`` does not say. Ours, a
+    deviation from the plain count: a benchmark run at nice -19 beside nice-15 processes of
+    its own group had been told their load (3x its time at load 6 on 2 cores) and ran at its
+    quiet speed."""
     try:
         own = PROC / "self"
         autogroups = PROC.joinpath("sys/kernel/sched_autogroup_enabled")
