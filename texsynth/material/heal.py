@@ -227,6 +227,10 @@ def _fill(source, hole, valid, p, rng, report):
     """The onion-peel patch fill: (the filled image, its position map (h, w, 2))."""
     h, w = hole.shape
     search = Search(source)
+    g = np.abs(np.diff(source, axis=0, append=source[-1:])).sum(2) + np.abs(
+        np.diff(source, axis=1, append=source[:, -1:])).sum(2)
+    energy = uniform_filter(g, p, mode="constant", origin=(-(p // 2), -(p // 2)))[
+        :h - p + 1, :w - p + 1]
     out = source.copy()
     positions = np.moveaxis(np.indices((h, w), np.int32), 0, 2).copy()
     filled = ~hole
@@ -244,7 +248,7 @@ def _fill(source, hole, valid, p, rng, report):
         flat = ssd.ravel()
         best = np.argpartition(flat, CANDIDATES)[:CANDIDATES]
         best = best[flat[best] <= flat[best].min() * (1 + TOLERANCE) + 1e-12]
-        si, sj = np.unravel_index(int(rng.choice(np.sort(best))), ssd.shape)
+        si, sj = np.unravel_index(int(best[energy.ravel()[best].argmax()]), ssd.shape)
         patch = source[si:si + p, sj:sj + p]
         o, pos = out[window], positions[window]
         new = ~known
