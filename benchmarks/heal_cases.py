@@ -25,6 +25,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("names", nargs="*")
     parser.add_argument("--look", type=Path)
+    parser.add_argument("--seed", type=int, default=material.SEED, help="heal's seed")
     args = parser.parse_args()
     side, rng, within = 512, np.random.default_rng(material.SEED), 0
     for rel in material.HEAL_PHOTOS:
@@ -36,7 +37,7 @@ def main() -> None:
             blemished = np.where(footprint[:, :, None], colour, truth).astype(np.float32)
             mask = binary_dilation(footprint, iterations=3)
             start = time.perf_counter()
-            healed = heal(blemished, mask, seed=material.SEED)
+            healed = heal(blemished, mask, seed=args.seed)
             seconds = time.perf_counter() - start
             g = material.region_gradient_ratio(healed, truth, mask)
             b = material.boundary_seam_ratio(healed, truth, mask)
