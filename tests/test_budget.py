@@ -61,14 +61,14 @@ def _task(root, pid, state, nice, group):
     return root / str(pid)
 
 
-@pytest.mark.parametrize("mine, expected", [(0, 1.52), (-19, 1.0)])
+@pytest.mark.parametrize("mine, expected", [(0, 1.7), (-19, 1.4)])
 def test_niced_tasks_of_the_group_slow_a_run_by_their_share(loadavg, tmp_path, monkeypatch,
                                                                mine, expected):
     proc = tmp_path / "proc"
     own = _task(proc, 9, "R", mine, 4)
     (proc / "self").symlink_to(own)
-    _task(proc, 10, "R", 15, 4)             # a background job, nice 15: a thirtieth of a task
-    _task(proc, 11, "R", 0, 4)              # a job at nice 0: a task, 1.25^-19 of one at -19
+    _task(proc, 10, "R", 15, 4)             # a background job, nice 15: its floor, 0.4
+    _task(proc, 11, "R", 0, 4)              # a job at nice 0: a task; beside -19 its floor
     _task(proc, 12, "S", 0, 4)              # asleep: none
     _task(proc, 13, "R", 0, 1)              # another session's two tasks: one group
     _task(proc, 14, "R", 0, 1)
