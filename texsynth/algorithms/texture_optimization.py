@@ -117,7 +117,11 @@ running the level again (twice): the EM grew another double copy (share 0.07 -> 
 1024, seeds 0-2, one level or two fewer): pavers 1.19, 1.04, 1.16 -> 1.23, 1.28, 1.38 (the
 repeat peak 0.22-0.41 -> 0.20-0.22), generated wall 1.29, 1.09, 1.34 -> 1.43, 1.37, 1.43,
 flagstones 0.80, 0.97, 1.30 -> 1.40, 1.20, 1.47, setts 2.15, 1.62, 2.76 -> 1.89, 2.25, 1.73;
-so those keep their levels.
+so there the coarsest exemplar spans two largest patches (32 px), one before: the pavers' 512
+crop 6 -> 5 levels, dead ends 1.19, 1.04, 1.16 -> 1.08, 1.20, 1.15 and its repeat peak (beyond
+24 px) 0.22-0.41 -> 0.22-0.26 (photo 0.24); the brick wall's crop 6 -> 5, 1.09, 1.01, 1.04;
+the ashlar blocks 6 -> 5, 1.06, 1.10, 1.21 -> 1.10, 1.00, 1.10; the generated wall, flagstones and setts keep 5 (the wall at 4: 1.31, 1.31,
+1.35).
 
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
@@ -129,8 +133,8 @@ Deviations, one line each:
   times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
   crisp, and the position map (so every map of a material can follow);
 - ``levels`` 0 (the default) takes enough levels for the largest patch to span
-  ``REACH_TEXELS`` texels (``texsynth.blocks.period``), at least 3, without a joint network
-  no more than leave ``COARSEST_PATCHES`` of them across the coarsest exemplar; the coarse
+  ``REACH_TEXELS`` texels (``texsynth.blocks.period``), at least 3, no more than leave
+  ``COARSEST_PATCHES`` of them across the coarsest exemplar; the coarse
   levels (2 and up) run ``COARSE`` times the EM iterations;
 - on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
   lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
@@ -196,10 +200,11 @@ REACH_TEXELS = 4
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 3
 #: Largest patches the coarsest exemplar spans at least, in the automatic choice above
-#: ``MIN_LEVELS``, on a photo without joints (issue 41): at two (a 32 px exemplar, 17^2
-#: patches of 16 px) its few patches cover an output of four times its area in a few large
-#: copies, two of one region.
-COARSEST_PATCHES = 4
+#: ``MIN_LEVELS``, on a photo without joints and with (issue 41): at two without (a 32 px
+#: exemplar, 17^2 patches of 16 px) its few patches cover an output of four times its area
+#: in a few large copies, two of one region; with joints, one (16 px) did the same on the
+#: pavers, four broke elements.
+COARSEST_PATCHES = (4, 2)
 #: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
 SHIFT = 3
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -222,13 +227,14 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
 def _auto_levels(exemplar, patch, elements=False):
     """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
     ``REACH_TEXELS`` of the exemplar's texels (``texsynth.blocks.period``, which samples a large
-    photo), at least ``MIN_LEVELS``; on a photo without ``elements`` (joint network) no more
-    than leave the coarsest exemplar ``COARSEST_PATCHES`` such patches across."""
+    photo), but no more than leave the coarsest exemplar ``COARSEST_PATCHES`` such patches
+    across (the nearest power of two; the second figure on a photo with ``elements``, a joint
+    network); at least ``MIN_LEVELS``."""
     texel = texel_size(exemplar)
     reach = 1 + int(np.ceil(np.log2(max(1.0, REACH_TEXELS * texel / patch))))
-    room = 1 + int(np.floor(np.log2(max(1.0, min(exemplar.shape[:2])
-                                        / (COARSEST_PATCHES * patch)))))
-    return max(MIN_LEVELS, reach if elements else min(reach, room))
+    across = min(exemplar.shape[:2]) / (COARSEST_PATCHES[bool(elements)] * patch)
+    room = 1 + int(np.round(np.log2(max(1.0, across))))
+    return max(MIN_LEVELS, min(reach, room))
 
 
 def _stride(shape, p) -> int:
