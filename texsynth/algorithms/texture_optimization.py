@@ -104,6 +104,25 @@ advance with them, from a sixteenth to a quarter of the exemplar's area) beyond 
 took the peaks, rock seeds 0-3, from 0.30, 0.29, 0.36, 0.25 to 0.09, 0.09, 0.10, 0.13, but the
 outputs became wide fields of the photo's one flat grey patch (the charge falls on every copy,
 so the smooth patch that matches anywhere wins).
+Fixed by the level count: at that level the exemplar holds only 17^2 patches of 16 px, and
+they must cover four times its area. On a photo without a joint network the automatic count
+now stops where the coarsest exemplar spans ``COARSEST_PATCHES`` (4) largest patches (the rock:
+4 -> 3 levels): repetition peak, seeds 0-2, 0.30, 0.29, 0.36 -> 0.11, 0.12, 0.10 (photo 0.13),
+gradient ratio 1.001, 1.014, 0.990 -> 1.000, 0.996, 0.979; a 512 crop of the layered rock to
+1024, seed 0, 6 -> 4 levels: the photo laid 2 x 2 side by side before, peak 0.48 -> 0.10
+(photo 0.18), gradient 1.005 -> 0.996, shorter layers. Also tried and left out: re-drawing
+the smaller copy behind the coarsest level's strongest recurrence from random pixels and
+running the level again (twice): the EM grew another double copy (share 0.07 -> 0.07, peaks
+0.35, 0.23, 0.28). The cap on photos with joints cost whole elements (dead-end ratio, 512 ->
+1024, seeds 0-2, one level or two fewer): pavers 1.19, 1.04, 1.16 -> 1.23, 1.28, 1.38 (the
+repeat peak 0.22-0.41 -> 0.20-0.22), generated wall 1.29, 1.09, 1.34 -> 1.43, 1.37, 1.43,
+flagstones 0.80, 0.97, 1.30 -> 1.40, 1.20, 1.47, setts 2.15, 1.62, 2.76 -> 1.89, 2.25, 1.73;
+so there the coarsest exemplar spans two largest patches (32 px), one before: the pavers' 512
+crop 6 -> 5 levels, dead ends 1.19, 1.04, 1.16 -> 1.08, 1.20, 1.15 and its repeat peak (beyond
+24 px) 0.22-0.41 -> 0.22-0.26 (photo 0.24); the brick wall's crop 6 -> 5, 1.09, 1.01, 1.04;
+the ashlar blocks 6 -> 5, 1.06, 1.10, 1.21 -> 1.10, 1.00, 1.10; the generated wall,
+flagstones and setts keep 5 (the wall at 4: 1.31, 1.31, 1.35). The repetition section's brick
+256 crop to 512, seed 0: peak 0.43 -> 0.41 (photo 0.33).
 
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
@@ -115,8 +134,9 @@ Deviations, one line each:
   times a Gaussian falloff from the patch centre (sigma a grid step), not the weighted average:
   crisp, and the position map (so every map of a material can follow);
 - ``levels`` 0 (the default) takes enough levels for the largest patch to span
-  ``REACH_TEXELS`` texels (``texsynth.blocks.period``), at least 3; the coarse levels (2 and
-  up) run ``COARSE`` times the EM iterations;
+  ``REACH_TEXELS`` texels (``texsynth.blocks.period``), at least 3, no more than leave
+  ``COARSEST_PATCHES`` of them across the coarsest exemplar; the coarse
+  levels (2 and up) run ``COARSE`` times the EM iterations;
 - on an exemplar of more than ``SOURCES`` pixels, a level searches only the patches on a
   lattice of spacing ``_stride`` (a power of two, at most the grid step p/4, so propagation
   stays on it; every exemplar pixel still lies in a lattice patch);
@@ -185,6 +205,12 @@ ITERATION_PIXELS = 4000
 REACH_TEXELS = 4
 #: The fewest levels the automatic choice gives (the former default).
 MIN_LEVELS = 3
+#: Largest patches the coarsest exemplar spans at least, in the automatic choice above
+#: ``MIN_LEVELS``, on a photo without joints and with (issue 41): at two without (a 32 px
+#: exemplar, 17^2 patches of 16 px) its few patches cover an output of four times its area
+#: in a few large copies, two of one region; with joints, one (16 px) did the same on the
+#: pavers, four broke elements.
+COARSEST_PATCHES = (4, 2)
 #: The largest move (pixels per axis, at the level) of a copied region after a coarse level.
 SHIFT = 3
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -204,12 +230,17 @@ def level_count(exemplar_shape, width, height, patch_size, levels) -> int:
     return n
 
 
-def _auto_levels(exemplar, patch):
+def _auto_levels(exemplar, patch, elements=False):
     """Levels enough for the coarsest (largest) patch, ``patch`` 2^(L-1) pixels across, to span
     ``REACH_TEXELS`` of the exemplar's texels (``texsynth.blocks.period``, which samples a large
-    photo), and at least ``MIN_LEVELS``."""
+    photo), but no more than leave the coarsest exemplar ``COARSEST_PATCHES`` such patches
+    across (the nearest power of two; the second figure on a photo with ``elements``, a joint
+    network); at least ``MIN_LEVELS``."""
     texel = texel_size(exemplar)
-    return max(MIN_LEVELS, 1 + int(np.ceil(np.log2(max(1.0, REACH_TEXELS * texel / patch)))))
+    reach = 1 + int(np.ceil(np.log2(max(1.0, REACH_TEXELS * texel / patch))))
+    across = min(exemplar.shape[:2]) / (COARSEST_PATCHES[bool(elements)] * patch)
+    room = 1 + int(np.round(np.log2(max(1.0, across))))
+    return max(MIN_LEVELS, min(reach, room))
 
 
 def _stride(shape, p) -> int:
@@ -230,13 +261,15 @@ def _downsample(image):
 
 
 def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
-             iterations=3, uniformity=2.0):
+             iterations=3, uniformity=2.0, elements=False):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
-    ``levels`` 0: enough to span the exemplar's texel (see the module notes).
+    ``levels`` 0: enough to span the exemplar's texel (see the module notes); ``elements``:
+    the exemplar has a joint network (its channels added), whose elements the coarsest levels
+    place whole.
     """
     progress(0.0, "analysing the exemplar")
     if levels == 0:
-        levels = _auto_levels(exemplar, patch_size << (sizes - 1))
+        levels = _auto_levels(exemplar, patch_size << (sizes - 1), elements)
     n_levels = level_count(exemplar.shape, width, height, patch_size, levels)
     pyramid = [exemplar]  # built once, to the levels used
     for _ in range(n_levels - 1):
@@ -507,7 +540,7 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
                          f"({patch_size} x {patch_size}); use a smaller patch size")
     work = feature_distance.augment(exemplar, joint_width, feature_weight)
     out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
-                              iterations, uniformity)
+                              iterations, uniformity, work is not exemplar)
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
