@@ -99,9 +99,10 @@ stone.
 
 Where there are joints, the coarsest ``COARSE_LEVELS`` levels (where the joint network is
 decided: the finer ones only sharpen it) get ``COARSE_FACTOR`` times the visits T and the
-random candidates (Paget & Longstaff 1998: the coarse grid fixes the long interactions; its
-grids hold a few hundred pixels, so the cost is small). Dead-end ratio, 512 -> 1024, seeds
-0-2, before / after: pavers 1.43, 1.62, 1.23 / 1.30, 1.20, 1.29; flagstones 1.96, 1.28,
+random candidates (Paget & Longstaff 1998: the coarse grid fixes the long interactions), those
+of at most ``COARSE_PIXELS`` (a 512 photo to 1024: its coarsest three, 64 x 64 and less, so the
+cost is small; a 32 px exemplar to 512 has 128 x 128 at its coarsest, where 4x had cost
+5.7x). Dead-end ratio, 512 -> 1024, seeds 0-2, before / after: pavers 1.43, 1.62, 1.23 / 1.30, 1.20, 1.29; flagstones 1.96, 1.28,
 1.45 / 1.46, 1.28, 1.54; setts 2.49, 2.54, 3.26 / 2.37, 2.61, 2.06; ashlar 1.04-1.21 /
 1.10, 1.04, 1.01; but the generated wall 1.32, 1.46, 1.45 / 1.44, 1.50, 1.49. CPU 1.0-1.1x
 (flagstones 14.7 -> 15.0-16.4 s under load 7); twice, on two levels: pavers 1.32, 1.47, 1.14,
@@ -189,7 +190,7 @@ SWEEPS = 1
 FEATURE_WEIGHT = 2.0
 #: The coarsest levels, where the joint network is decided (issue 41), get this many times the
 #: visits and random candidates (their grids are small: a few hundred pixels).
-COARSE_LEVELS, COARSE_FACTOR = 3, 4
+COARSE_LEVELS, COARSE_FACTOR, COARSE_PIXELS = 3, 4, 64 * 64
 
 
 class _Level:
@@ -384,12 +385,15 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
     def refines(lv):
         return shapes[lv][0] * shapes[lv][1] > REFINE_PIXELS
 
+    def boost(lv):  # the coarse grids that decide the joint network (COARSE_LEVELS)
+        small = shapes[lv][0] * shapes[lv][1] <= COARSE_PIXELS
+        return factor if lv >= len(shapes) - COARSE_LEVELS and small else 1
+
     kept = {}  # the table array, refilled by every table level; the windows, built once
 
     def make_level(lv, tick):
         step = 2 ** lv
-        coarse = factor if lv >= len(shapes) - COARSE_LEVELS else 1
-        candidates = (0 if refines(lv) else coarse * random_candidates,
+        candidates = (0 if refines(lv) else boost(lv) * random_candidates,
                       REFINE_PROPOSERS if refines(lv) else None)
         if stride <= step:  # a table of the lattice
             sub = box_means(centred, step, stride, exemplar_tiles, kept)
@@ -417,8 +421,8 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
     aligned = _aligned(width, height, len(shapes), [])
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes,
-        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits * (
-            factor if lv >= len(shapes) - COARSE_LEVELS else 1), rng, progress, pool,
+        lambda lv: min(visits, REFINE_VISITS) if refines(lv) else visits * boost(lv), rng,
+        progress, pool,
         lambda lv, level, source, tick: _align(level, source, radius, tick)
         if lv in aligned and not level.windows else source,
         [LEVEL_SECONDS + cost for cost in _level_costs(
