@@ -101,12 +101,13 @@ Where there are joints, the coarsest ``COARSE_LEVELS`` levels (where the joint n
 decided: the finer ones only sharpen it) get ``COARSE_FACTOR`` times the visits T and the
 random candidates (Paget & Longstaff 1998: the coarse grid fixes the long interactions), those
 of at most ``COARSE_PIXELS`` (a 512 photo to 1024: its coarsest three, 64 x 64 and less, so the
-cost is small; a 32 px exemplar to 512 has 128 x 128 at its coarsest, where 4x had cost
-5.7x). Dead-end ratio, 512 -> 1024, seeds 0-2, before / after: pavers 1.43, 1.62, 1.23 /
-1.30, 1.20, 1.29; flagstones 1.96, 1.28, 1.45 / 1.46, 1.28, 1.54; setts 2.49, 2.54, 3.26 / 2.37, 2.61, 2.06; ashlar 1.04-1.21 /
-1.10, 1.04, 1.01; but the generated wall 1.32, 1.46, 1.45 / 1.44, 1.50, 1.49. CPU 1.0-1.1x
-(flagstones 14.7 -> 15.0-16.4 s under load 7); twice, on two levels: pavers 1.32, 1.47, 1.14,
-ashlar 1.30 on seed 0. The gravel (no joints) runs as before, bit for bit.
+cost is small; a 32 px exemplar to 512 has 128 x 128 at its coarsest, where 4x had cost 5.7x).
+Dead-end ratio, 512 -> 1024, seeds 0-2, before / after: pavers 1.43, 1.62, 1.23 / 1.30, 1.20,
+1.29; flagstones 1.96, 1.28, 1.45 / 1.46, 1.28, 1.54; setts 2.49, 2.54, 3.26 / 2.37, 2.61,
+2.06; ashlar 1.04-1.21 / 1.10, 1.04, 1.01; but the generated wall 1.32, 1.46, 1.45 / 1.44,
+1.50, 1.49. CPU 1.0-1.1x (flagstones 14.7 -> 15.0-16.4 s under load 7); twice, on two levels:
+pavers 1.32, 1.47, 1.14, ashlar 1.30 on seed 0. The gravel (no joints) runs as before, bit for
+bit.
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
