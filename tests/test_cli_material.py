@@ -40,16 +40,18 @@ def test_a_photo_becomes_five_tiling_maps_after_the_forecast(photo, tmp_path, ca
 
 def test_refusals_are_one_line_and_write_nothing(photo, tmp_path, capsys):
     write_png(tmp_path / "small.png", np.zeros((16, 16, 3), np.float32))
-    out = tmp_path / "out"
+    write_png(tmp_path / "all.png", np.ones((64, 80, 3), np.float32))
+    out = tmp_path / "new" / "out"
     for argv, code, named in [
         (["--mask", tmp_path / "small.png"], 3, "not the photo's 80 x 64"),
+        (["--mask", tmp_path / "all.png"], 1, "mask covers the whole photo"),
         (["--corners", "1,2,3"], 2, "--corners must be 8 numbers"),
         (["--skip", "blur"], 2, "invalid choice"),
         (["--format", "jpg"], 2, "invalid choice"),
     ]:
         result, _, err = _run(capsys, "-q", "material", photo, "-o", out, "--size", "32", *argv)
         assert result == code and len(err.strip().splitlines()) == 1 and named in err, err
-    assert not out.exists() or not any(out.iterdir())
+        assert not (tmp_path / "new").exists()  # not even the folder it made to check
 
 
 def test_a_mask_in_the_output_folder_is_never_written_over(photo, tmp_path, capsys):

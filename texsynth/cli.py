@@ -52,6 +52,7 @@ from .jobs import (
     parse_size,
     preflight,
     read_input,
+    remove_made_folders,
     version,
     write_outputs,
 )
@@ -595,5 +596,6 @@ def _check_bits(args) -> None:
 
 def _fail(bar: Bar, text: str, code: int) -> int:
     bar.close()
+    remove_made_folders()
     print(f"texsynth: {text}", file=sys.stderr)
     return code

@@ -51,6 +51,7 @@ from .io.files import (
     write_images,
 )
 from .material import pipeline as material
+from .material.heal import check_mask
 from .plane import focal_px_from_file
 from .positions import apply_positions
 from .registry import get_method, methods
@@ -374,12 +375,28 @@ def _named(job: Job) -> str:
     return ": ".join(dict.fromkeys(filter(None, (job.origin, job.photo))))
 
 
+#: The folders :func:`check_folder` made, parents first: :func:`remove_made_folders` takes
+#: them away again when the work fails.
+MADE_FOLDERS: list[Path] = []
+
+
+def remove_made_folders() -> None:
+    """Remove the folders :func:`check_folder` made that are still empty, deepest first (a
+    failed or interrupted run leaves the disk as it found it)."""
+    while MADE_FOLDERS:
+        try:
+            MADE_FOLDERS.pop().rmdir()
+        except OSError:
+            pass                                          # something was written there
+
+
 def check_folder(folder: Path, name: str = "probe") -> None:
-    """Make ``folder`` (and its parents) and write and remove a file in it, named as
-    :func:`write_outputs` names its temporary files, and check that ``name`` (the folder's
-    longest output) fits the folder's limit on names; :class:`OutputError` naming the folder
-    or file: before the work, not after it."""
+    """Make ``folder`` (and its parents; those made in :data:`MADE_FOLDERS`) and write and
+    remove a file in it, named as :func:`write_outputs` names its temporary files, and check
+    that ``name`` (the folder's longest output) fits the folder's limit on names;
+    :class:`OutputError` naming the folder or file: before the work, not after it."""
     try:
+        MADE_FOLDERS.extend(reversed([f for f in (folder, *folder.parents) if not f.exists()]))
         folder.mkdir(parents=True, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix=temp_prefix(Path(name)), dir=folder)
         os.close(fd)
@@ -504,6 +521,8 @@ def execute_material(job: Job, progress=None) -> tuple[list[str], tuple[str, ...
     """
     photo = read_input(job.photo)
     mask = read_input(job.maps[0]) if job.maps else None
+    if mask is not None:
+        check_mask(mask[:, :, 0] >= 0.5, photo.shape)  # before the work: nothing or all masked
     focal = focal_px_from_file(job.photo)
     p = dict(job.params)
     corners = p["corners"]
