@@ -30,7 +30,7 @@ def main() -> None:
     side, rng, within = 512, np.random.default_rng(material.SEED), 0
     for rel in material.HEAL_PHOTOS:
         truth = centre_crop(rel, side)
-        for name, colour, footprint in material._blemishes(side, rng):  # the section's draws
+        for name, colour, footprint in material.blemishes(side, rng):  # the section's draws
             tag = f"{Path(rel).stem}_{name.split()[0]}"
             if args.names and not any(n in tag for n in args.names):
                 continue

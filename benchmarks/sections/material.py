@@ -168,7 +168,7 @@ def delight_part(ctx) -> str:
 
 # --- heal -------------------------------------------------------------------------------------
 
-def _blemishes(side: int, rng) -> list[tuple[str, np.ndarray, np.ndarray]]:
+def blemishes(side: int, rng) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """(name, the blemish's colour (side, side, 3), its footprint (side, side) bool): a sign (a
     light rectangle with dark lettering), a cigarette butt (a pale stub with an orange tip)."""
     y, x = np.mgrid[:side, :side]
@@ -261,7 +261,7 @@ def heal_part(ctx) -> str:
     rows, ours, smooth, shown, seconds = [], [], [], [], []
     for rel in photos:
         truth = centre_crop(rel, side)
-        for name, colour, footprint in _blemishes(side, rng):
+        for name, colour, footprint in blemishes(side, rng):
             blemished = np.where(footprint[:, :, None], colour, truth).astype(np.float32)
             mask = binary_dilation(footprint, iterations=3)  # painted a little wider
             start = time.perf_counter()

@@ -780,4 +780,4 @@ def cost(shape, width, height, params):
     type selection (each class selects on its own pixels, not the exemplar's), and the
     classes' set-up, 4.4 s more."""
     return 4.9 + 3.5e-7 * shape[0] * shape[1] + 2.4 * CLIQUE_MODEL.cost(
-        shape, width, height, params) - 1.9 * co._selection(shape, params)
+        shape, width, height, params) - 1.9 * co.selection_cost(shape, params)

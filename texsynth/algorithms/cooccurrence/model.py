@@ -694,11 +694,11 @@ def fit_share(shape, width, height, params) -> float:
     synthesis = synthesis_cost(shape[2], min(params["max_cliques"], TYPICAL_TYPES), width,
                                height, params["sweeps"])
     whole = cost(shape, width, height, params)
-    fit = whole - synthesis - (1.0 - SELECTION_WEIGHT) * _selection(shape, params)
+    fit = whole - synthesis - (1.0 - SELECTION_WEIGHT) * selection_cost(shape, params)
     return fit / (fit + synthesis)
 
 
-def _selection(shape, params) -> float:
+def selection_cost(shape, params) -> float:
     """Seconds of the selection (:func:`cost`): a round of sweeps over the selection torus per
     selected type and colour component."""
     h, w, c = shape
@@ -718,7 +718,7 @@ def cost(shape, width, height, params):
     t = min(params["max_cliques"], TYPICAL_TYPES)
     statistics = c * (1.5e-7 * min(h * w, ANCHORS)
                       + 1e-7 * sampled_pixels(shape, params["max_offset"]))
-    return 0.05 + statistics + _selection(shape, params) + synthesis_cost(c, t, width, height,
+    return 0.05 + statistics + selection_cost(shape, params) + synthesis_cost(c, t, width, height,
                                                                           params["sweeps"])
 
 
