@@ -153,7 +153,7 @@ from scipy.ndimage import uniform_filter1d
 from ..blocks import feature_distance, multigrid, region_shift
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
-from ..blocks.search import Rows, WindowRows, best_candidate, disk_offsets, neighbour_table
+from ..blocks.search import Rows, Scratch, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
 __all__ = ["multiscale_mrf", "METHOD", "REFINE_PIXELS", "REFINE_VISITS", "TABLE_ROWS",
@@ -222,6 +222,7 @@ class _Level:
         self.offsets = offsets
         self.random_candidates = random_candidates
         self.proposers = k if proposers is None else min(proposers, k)
+        self.scratch = Scratch()
 
     def _to_level(self, p):
         if self.stride == 1:
@@ -297,7 +298,7 @@ class _Level:
         else:
             z[:, :k * c] = o.reshape(b, k * c)
             z[:, k * c:] = nw
-        return best_candidate(self.rows, cand, z, current, self.n)
+        return best_candidate(self.rows, cand, z, current, self.n, self.scratch)
 
 
 def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
