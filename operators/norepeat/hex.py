@@ -7,13 +7,14 @@ photo's courses, layers and light keep their direction.
 * **TexSynth Hex Grid** (Vector, Scale, Seed, Rotation, Turns, Texels -> UV 1-3, Angles,
   Weights): the triangle grid of tiling and blending, its vertices read as the centres of
   hexagonal cells; each of the point's three cells turns the texture by a hashed angle in
-  ``[-pi, pi) * Rotation`` rounded to a multiple of a ``1 / Turns`` turn (Turns 0: not
-  rounded; about the origin: see ``texsynth.norepeat.hex``) and offsets it by a hashed
+  ``[-pi, pi) * Rotation`` rounded to a multiple of a ``1 / Turns`` turn (Turns 0: of
+  ``EPSILON`` radians, not seen; about the origin: see ``texsynth.norepeat.hex``), two Math
+  nodes a cell (a Snap of the angle plus half a step), and offsets it by a hashed
   amount snapped to whole texels (one White Noise texture of the vertex and the seed gives
   both); the barycentric weights;
 * **TexSynth Hex Weights** (Weights, Luminance, Contrast, Sharpness -> Weights): the paper's
   sharpened, luminance-weighted blend weights ``mix(1, L_i, contrast) * w_i ** sharpness``,
-  normalised (section 4);
+  normalised (section 4), the power one Vector Math node from Blender 4.3;
 * **TexSynth Hex <image>** per map: the grid, three reads of the user's own image (no new
   image: hex tiling needs no precomputation), the weights and the blend. The active map's group
   outputs its three copies' luminances; the followers' groups take them in, so every map blends
@@ -24,6 +25,8 @@ Only Math, Vector Math, Separate/Combine XYZ, White Noise, Vector Rotate and Ima
 nodes: Cycles and EEVEE both run them. Deviations as in ``texsynth.norepeat.hex``; the hash is
 Blender's White Noise, so renders match the reference in their statistics, not pixel by pixel.
 """
+
+import bpy
 
 from ...texsynth.norepeat import GRID_SCALE, rotation_symmetry
 from ...texsynth.norepeat.hex import CONTRAST, LUMA, SHARPNESS
@@ -51,6 +54,8 @@ TURN_COUNTS = {"HALF": 2, "QUARTER": 4, "ANY": 0, "NONE": 1}
 GRID = "TexSynth Hex Grid"
 WEIGHTS = "TexSynth Hex Weights"
 PI = 3.141592653589793
+#: The angle's step (radians) for Turns 0 (any angle): a millionth of a radian, not seen.
+EPSILON = 1e-6
 
 
 def prepare(op, src, nodes):
@@ -88,18 +93,19 @@ def _build_grid():
     texel = b.vector("DIVIDE", (1.0, 1.0, 1.0), i["Texels"])
     spread = b.math("MULTIPLY", i["Rotation"], 2 * PI)
     start = b.math("MULTIPLY", i["Rotation"], -PI)
-    step = b.math("DIVIDE", 2 * PI, i["Turns"])  # Blender's Math gives 0 for Turns 0
-    rounded = b.math("GREATER_THAN", i["Turns"], 0.5)
+    # a 1 / Turns turn; Turns 0 (Blender's Math divides by 0 as 0): steps of EPSILON radians,
+    # the angle as it is
+    step = b.math("MAXIMUM", b.math("DIVIDE", 2 * PI, i["Turns"]), EPSILON)
+    half = b.math("MULTIPLY_ADD", step, 0.5, start)  # constant: folded once per group
     uvs, angles = [], []
     for vertex in vertices:
         noise = b.node("ShaderNodeTexWhiteNoise", (vertex,), noise_dimensions="3D")
         # the angle from the Value hash, the offset from the Color one's first two values
-        # snapped to whole texels (the third is below 1: 0); turned about the origin
-        free = b.math("MULTIPLY_ADD", noise.outputs["Value"], spread, start)
-        # round(free / step) * step, as floor(free / step + 1/2) * step; kept when Turns is 0
-        snapped = b.math("MULTIPLY", b.math("FLOOR", b.math("MULTIPLY_ADD", free, b.math(
-            "DIVIDE", 1.0, step), 0.5)), step)
-        angle = b.math("MULTIPLY_ADD", rounded, b.math("SUBTRACT", snapped, free), free)
+        # snapped to whole texels (the third is below 1: 0); turned about the origin.
+        # round(a / step) * step as Snap(a + step / 2, step) = floor(a / step + 1/2) * step:
+        # two nodes a cell
+        angle = b.math("SNAP", b.math("MULTIPLY_ADD", noise.outputs["Value"], spread, half),
+                       step)
         turned = b.node("ShaderNodeVectorRotate", (uv, None, None, angle),
                         rotation_type="Z_AXIS")
         offset = b.vector("SNAP", noise.outputs["Color"], texel)
@@ -107,6 +113,14 @@ def _build_grid():
         angles.append(angle)
     finish_group(b, uvs + [b.combine(*angles), weights])
     return group
+
+
+def _power(b, vector, exponent):
+    """``vector ** exponent`` per component: one Vector Math node from Blender 4.3 (Cycles'
+    safe power per component, as the Math node's), three Math nodes before it."""
+    if bpy.app.version >= (4, 3, 0):
+        return b.vector("POWER", vector, b.combine(exponent, exponent, exponent))
+    return b.combine(*(b.math("POWER", w, exponent) for w in b.separate(vector)))
 
 
 def _build_weights():
@@ -117,8 +131,7 @@ def _build_weights():
     contrast = i["Contrast"]
     d = b.vector("MULTIPLY_ADD", i["Luminance"], contrast, b.math("SUBTRACT", 1.0, contrast))
     d = b.vector("MAXIMUM", d, (1e-4, 1e-4, 1e-4))
-    # w_i ** sharpness per component (Vector Math has no POWER before Blender 4.3)
-    sharp = b.combine(*(b.math("POWER", w, i["Sharpness"]) for w in b.separate(i["Weights"])))
+    sharp = _power(b, i["Weights"], i["Sharpness"])
     w = b.vector("MULTIPLY", d, sharp)
     finish_group(b, [b.vector("DIVIDE", w, b.vector("DOT_PRODUCT", w, (1.0, 1.0, 1.0)))])
     return group

@@ -11,7 +11,7 @@ one made. Raise ``VERSION`` whenever a shared group's layout changes.
 import bpy
 
 #: Custom property marking a group as built by this wing, with the layout's version.
-TAG, VERSION = "texsynth_norepeat", 3
+TAG, VERSION = "texsynth_norepeat", 4
 
 
 class Builder:
