@@ -6,16 +6,16 @@ method (``_cost`` in the method's module): it counts the work of the method's in
 patch searches' matrix products, the pyramids' FFTs, the relaxations' gathers) and converts it
 to seconds with coefficients fitted to measured runs (``python -m benchmarks.cost_models``
 prints predictions against measurements); a prediction is good to about a factor of two.
-This machine's speed relative to the reference is measured once per process by a tiny
-calibration run (:func:`speed`, about 0.1 s: the FFTs, gathers, counts and sorts the
-methods spend their time in, on one thread and without BLAS so that the reading does not depend
-on what ran before in the process). A prediction is for the machine as it is, so the speed is
+This machine's speed relative to the reference is measured once per process by a short
+calibration run (:func:`speed`, about 0.15 s: the FFTs, gathers and counts the methods spend
+their time in, on one thread and without BLAS so that the reading does not depend on what ran
+before in the process). A prediction is for the machine as it is, so the speed is
 multiplied by the load other programs put on it (:func:`contention`: the tasks wanting a core
 per core, read from the kernel, at least 1): ``cost * machine_factor()``, ``machine_factor() =
-speed() * contention()``. Why not the median of the calibration runs instead of a load
-figure: on 2 cores at load 7-10 the fastest run still read about the quiet machine's speed
-(0.33-0.46) while the methods took 1.3-12x their quiet time, and the median read 0.34-3.6
-in the same processes, following neither.
+speed() * contention()``. Why not the calibration runs' wall-clock median instead of a
+load figure: on 2 cores at load 7-10 the fastest wall-clock run still read about the quiet
+machine's speed (0.33-0.46) while the methods took 1.3-12x their quiet time, and the median
+read 0.34-3.6 in the same processes, following neither.
 
 :func:`check_time` refuses, before any work, a run predicted to exceed :func:`time_budget`
 (``TEXSYNTH_TIME_BUDGET`` seconds, default one hour), with a message naming the predicted
@@ -46,14 +46,17 @@ __all__ = ["time_budget", "speed", "contention", "machine_factor", "predict", "f
 
 #: Seconds a run may be predicted to take when ``TEXSYNTH_TIME_BUDGET`` is not set.
 DEFAULT_BUDGET = 3600.0
-#: Seconds a run of the calibration workload takes on the reference machine, the fastest of
-#: :data:`RUNS`: set on the 2026-12 host (AMD EPYC, 2 cores; 2.4-3.8 ms a run, without the
-#: sort) so that it reads 0.30, the median over the predictions benchmark's 31 quiet runs of
-#: their seconds over their cost models' (issue 45: 0.23-0.39 after the models' refit; the
-#: earlier workload read 0.1, its floor, there).
-REFERENCE_SECONDS = 0.0100
-#: Runs of the calibration workload (a few ms each) after the warm-up.
-RUNS = 15
+#: Seconds a run of the calibration workload takes on the reference machine, the median of
+#: :data:`RUNS`: set so that a 2026-12 host (AMD EPYC, 2 cores, the second; about 6.7 ms a
+#: run at load 10) reads the median of the quiet predictions benchmark's seconds over its cost
+#: models' (0.59, 27 rows but multiscale_mrf's: the median of 25 runs reads 1.13x the
+#: fastest there, which had read 0.44 typical, 0.31-0.65 a row, at this constant's 0.0100).
+REFERENCE_SECONDS = 0.0085
+#: Runs of the calibration workload (a few ms each) after the :data:`WARMUP` runs.
+RUNS = 21
+#: Runs first left out: the first runs' FFT plans and caches (2.7x, then 0.8-1.0x the later
+#: runs' 0.7 at load 10).
+WARMUP = 4
 #: Seconds a reading of the load is kept (a Blender session lasts hours; the panel redraws often).
 REFRESH = 60.0
 #: Linux's load figures: the 1-minute average, then runnable/all tasks at this instant.
@@ -115,11 +118,12 @@ def _workload() -> Callable[[], float]:
 
 def speed() -> float:
     """This machine's time for the calibration workload over the reference machine's: the
-    fastest of :data:`RUNS` runs after a warm-up, in this thread's CPU time, so that runs that
-    lost the core to other processes do not read slow (at load 9 on 2 cores a process's fastest
-    wall-clock run read 1.6 or more once; CPU time reads 0.33-0.52 there, the excess being the
-    caches shared with the other processes; 0.33 quiet), measured once per process and clipped
-    to 0.1 .. 100.
+    median of :data:`RUNS` runs after :data:`WARMUP`, in this thread's CPU time, so that runs
+    that lost the core to other processes do not read slow (at load 9 on 2 cores a process's
+    fastest wall-clock run read 1.6 or more once), measured once per process and clipped to
+    0.1 .. 100. The median, not the fastest: one run in 20-50 reads 0.6x the others (0.38 among
+    0.68 at load 10), so the fastest of 15 read 0.31-0.65 in fresh processes of one quiet
+    predictions run (0.40-0.66 at load 11, the median of 25 0.63-0.79 in the same processes).
 
     Examples
     --------
@@ -129,8 +133,10 @@ def speed() -> float:
     global _speed
     if _speed is None:
         run = _workload()
-        run()
-        _speed = float(np.clip(min(run() for _ in range(RUNS)) / REFERENCE_SECONDS, 0.1, 100.0))
+        for _ in range(WARMUP):
+            run()
+        seconds = float(np.median([run() for _ in range(RUNS)]))
+        _speed = float(np.clip(seconds / REFERENCE_SECONDS, 0.1, 100.0))
     return _speed
 
 

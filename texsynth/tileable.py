@@ -598,10 +598,13 @@ def _cost(lay: _Layout, c: int) -> float:
     correction: ``SWEEPS`` x the cross's pixels and their edge rows, per channel, at the
     seconds it took beside the quilting in the same runs (1024^2 and 2048^2 twice, 4000 x 3000
     once, at their default bands, on a loaded machine: 0.20-0.41 of the whole time; the
-    coefficient within 0.47-1.18 of each, 0.82-1.18 but for one run)."""
+    coefficient within 0.47-1.18 of each, 0.82-1.18 but for one run). The constant 0.029 ->
+    1.15 (issue 45: the 1024^2 photo read 1.39 and 1.49 of the predictions table's median
+    seconds over cost on two hosts, the larger ones 0.76-1.26; no first-call cost: three calls
+    in one process take the same CPU time; cause not found)."""
     coarse, refine = _work(lay)
     cross = SWEEPS * (lay.b + 2) * (lay.h + lay.w) * c
-    return 0.029 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 3) + 1.6e-7 * cross
+    return 1.15 + (4.9e-8 * coarse + 9.0e-8 * refine) * (c + 3) + 1.6e-7 * cross
 
 
 def _memory(lay: _Layout, c: int) -> float:

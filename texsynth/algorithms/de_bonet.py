@@ -100,7 +100,7 @@ from scipy.spatial import cKDTree
 from ..blocks.parallel import run
 from ..blocks.periodic import periodic_component, periodic_spectrum
 from ..blocks.pyramid import LaplacianPyramid, SteerablePyramid, pyramid_depth
-from ..blocks.quilting import torus_quilt
+from ..blocks.quilting import block_count, torus_quilt
 from ..registry import Method, Param, register
 
 __all__ = [
@@ -139,6 +139,10 @@ QUILT_BLOCK, QUILT_OVERLAP, QUILT_RADIUS = 1.0, 0.125, 1 / 3
 EXEMPLAR_ROWS = 64
 #: A query among coherent candidates in a free query's time (the cost model's figure).
 COHERENT_COST = 0.56
+#: Seconds on the reference machine a quilted block takes (its search, cuts and masks: 2.4-2.6
+#: ms CPU at load 14, 1.6 ms quiet, from 32^2 to 512^2 and 1024^2 and 64^2 to 1024^2; the
+#: 1849 blocks of 32^2 -> 1024^2 took 57 % of its CPU time, and the model had no term).
+QUILT_COST = 2.7e-3
 #: Work, in free queries, per exemplar location of a level (its projection and index), per
 #: exemplar pixel analysed and per output pixel collapsed: the shares of the progress (their
 #: CPU times over the same levels' queries, median of 3 warm runs at 128^2 -> 256^2, 256^2 ->
@@ -460,12 +464,9 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     hs, ws = ex_shapes[top]
     quilt = quilted(ex_shapes[top], out_shapes[top])
     if quilt:
-        side = min(hs, ws)
-        block = max(4, round(side * QUILT_BLOCK))
+        block, overlap, radius = _quilt_block(min(hs, ws))
         sources[top] = torus_quilt(features[top], out_shapes[top], block, rng,
-                                   overlap=max(1, round(block * QUILT_OVERLAP)),
-                                   radius=min(block // 2, int(side * QUILT_RADIUS))
-                                   ).astype(np.int32)
+                                   overlap=overlap, radius=radius).astype(np.int32)
     else:
         oy = _offset(features[top], out_shapes[top][0], rng, features[:top])
         ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng,
@@ -511,6 +512,13 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         sources[level] = src.reshape(h, w)
         del space, sampler               # the next level's table is built without them
     return sources
+
+
+def _quilt_block(side: int) -> tuple[int, int, int]:
+    """The coarsest level's quilting from an exemplar level of ``side``: the block's side, its
+    overlap and the radius of the offsets it keeps away from (``QUILT_*``)."""
+    block = max(4, round(side * QUILT_BLOCK))
+    return block, max(1, round(block * QUILT_OVERLAP)), min(block // 2, int(side * QUILT_RADIUS))
 
 
 def quilted(ex_shape, out_shape) -> bool:
@@ -680,7 +688,9 @@ def _cost(shape, width, height, params):
     predicted under half of the crop's time); the per-pixel term then scaled by 0.73, as the
     12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then 8.6 -> 5.8 s, medians of
     alternating runs on a loaded machine) once its finest level's table was made by slices:
-    not refitted on a quiet machine."""
+    not refitted on a quiet machine. Per block of the coarsest level's quilting,
+    ``QUILT_COST`` (issue 45: a 32^2 exemplar to 1024^2 was predicted 0.44-0.47 of its time,
+    the square rows 1.0-1.2)."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
@@ -691,7 +701,17 @@ def _cost(shape, width, height, params):
         locations += 0.75 * n * (COHERENT_COST if quilt or n > COHERENT_PIXELS else 1.0)
     levels = pyramid_depth(shape, width, height, params["scales"])
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
-            + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c)
+            + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c
+            + QUILT_COST * _quilt_blocks(shape, width, height, levels))
+
+
+def _quilt_blocks(shape, width, height, levels: int) -> int:
+    """Blocks the coarsest level's quilting places (none where it is copied): the pyramids'
+    coarsest shapes halved as ``LaplacianPyramid``'s."""
+    ex, out = shape[:2], (height, width)
+    for _ in range(levels):
+        ex, out = tuple((n + 1) // 2 for n in ex), tuple((n + 1) // 2 for n in out)
+    return block_count(out, *_quilt_block(min(ex))[:2]) if quilted(ex, out) else 0
 
 
 METHOD = register(Method(

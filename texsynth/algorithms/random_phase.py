@@ -177,11 +177,13 @@ def _cost(shape, width, height, params):
     from the 12 MP setts, to 512^2-2048^2 (0.03-0.5 s), the constant raised by the first
     call's start-up in a fresh process (the photos section's runs). The output's term as
     n log2 n (issue 45: linear, 16384 x 64 had been told 2.1x its quiet 0.06 s, 4096^2 from
-    32^2 0.77x its 1.73 s), its constant to 0.02 s."""
+    32^2 0.77x its 1.73 s), its constant to 0.02 s; its coefficient 3.87e-9 -> 3.1e-9 (the
+    quiet predictions table: 2048^2, 16384 x 64 and 4096^2 read 0.85, 0.99, 0.63 of its
+    median seconds over cost; CPU time over cost 0.55, 0.80, 0.49 at load 12)."""
     h, w, c = shape
     sampled = c * -(-h * w // sample_step(h * w, w, SAMPLES))
     pixels = width * height
-    return 0.02 + 5e-9 * h * w * c + 5.5e-8 * sampled + 3.87e-9 * pixels * np.log2(
+    return 0.02 + 5e-9 * h * w * c + 5.5e-8 * sampled + 3.1e-9 * pixels * np.log2(
         max(pixels, 2)) * c
 
 

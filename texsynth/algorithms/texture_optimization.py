@@ -585,14 +585,16 @@ def _cost(shape, width, height, params):
     copies' alignment after each patch size of every level but the finest (``align_regions``:
     its labelling and seam costs over the level, about a third of the output's pixels a patch
     size). Fitted to 1024 -> 2048 from the 12 MP setts' centre, the 12 MP setts, the brick
-    wall and the gravel (quiet: 77-91 s, the alignment 4-11 % of it; predicted 0.95-1.07x)."""
+    wall and the gravel (quiet: 77-91 s, the alignment 4-11 % of it; predicted 0.95-1.07x).
+    The fixed seconds 1.2 -> 2.1 (issue 45: 64^2 -> 256^2 and -> 2048 x 32 read 1.21-1.33 of
+    the predictions table's median seconds over cost on two hosts, 32^2 -> 512^2 1.02-1.06)."""
     shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
     work = params["iterations"] / 3 * c / 3
     table = sum(r * k for r, k in _tables(shape, params))
     align = COST_ALIGN * params["sizes"] * width * height / 3 * c / 3
     small = min(1.0, width * height / FIT_PIXELS) ** 0.12
-    return 1.2 + (COST_OUT * small * params["sizes"] / 2 * width * height
+    return 2.1 + (COST_OUT * small * params["sizes"] / 2 * width * height
                   + COST_TABLE * table) * work + align
 
 

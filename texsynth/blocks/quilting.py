@@ -38,7 +38,7 @@ from scipy import ndimage
 
 from .parallel import threads
 
-__all__ = ["Search", "block_means", "min_error_path", "torus_quilt"]
+__all__ = ["Search", "block_count", "block_means", "min_error_path", "torus_quilt"]
 
 
 def block_means(image: np.ndarray, f: int) -> np.ndarray:
@@ -150,6 +150,19 @@ def _cells(n: int, step: int) -> np.ndarray:
     """Boundaries of at least 2 cells of at least 2 entries, about ``step`` long, over n."""
     count = max(2, min(-(-n // max(step, 1)), n // 2))
     return np.round(np.linspace(0, n, count + 1)).astype(np.int64)
+
+
+def block_count(shape: tuple[int, int], block: int, overlap: int | None = None) -> int:
+    """Blocks :func:`torus_quilt` places on an output of ``shape``: its cells of about
+    ``block - overlap`` a side (a cost model's count: each takes a search and its cuts).
+
+    Examples
+    --------
+    >>> block_count((128, 128), 4, 1)
+    1849
+    """
+    step = block - (max(1, block // 4) if overlap is None else overlap)
+    return (len(_cells(shape[0], step)) - 1) * (len(_cells(shape[1], step)) - 1)
 
 
 def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.random.Generator,
