@@ -57,7 +57,7 @@ Deviations, one line each:
   ``DRAWS`` times and the draw kept whose boundary jump is nearest the photo's own one pixel
   further out (``_boundary_misfit``: the photo around, never the truth): the gravel's butt
   seam 1.46 -> 1.22 (its 12 draws read 1.20-1.49, the misfit ranking them as the seam does),
-  the other butts 0.96-1.03; the butts take about 4 times as long (0.3 -> 1.3 s).
+  the other butts 0.96-1.03; the butts take about 4 times as long (gravel: 1.7 -> 6.2 s).
 
 Not yet within the goals (gradient ratio 0.9-1.1, boundary seam ratio 0.8-1.2) on one of the
 material section's cases (seed 0, ``python -m benchmarks.heal_cases``): the gravel's cigarette
