@@ -53,14 +53,21 @@ Deviations, one line each:
   sign (0.58) was copied from a smoother stretch (gradient 0.95 -> 0.78); thin regions (the
   cigarette butts) copied whole read gradient 0.79 on the brick.
 
+- a region of at most ``DRAW_PIXELS`` pixels (the cigarette butts: 1900) is filled
+  ``DRAWS`` times and the draw kept whose boundary jump is nearest the photo's own one pixel
+  further out (``_boundary_misfit``: the photo around, never the truth): the gravel's butt
+  seam 1.46 -> 1.22 (its 12 draws read 1.20-1.49, the misfit ranking them as the seam does),
+  the other butts 0.96-1.03; the butts take about 4 times as long (gravel: 1.7 -> 6.2 s).
+
 Not yet within the goals (gradient ratio 0.9-1.1, boundary seam ratio 0.8-1.2) on one of the
-material section's cases (seed 0, ``python -m benchmarks.heal_cases``), and no lever tried moves
-it: the gravel's cigarette butt, seam 1.46 (1.38 drawing among all candidates; before the
-guided interpolation 2.18: the copied pebbles meet the photo's out of place; the correction's
-standard deviation 0.10 shows as a grey haze), with patches of 10 / 24 px 1.26, 1.35 / 1.52,
-1.45. Drawn among 1 (the best only) or 8 within 25% instead of 4 within 10%, and the SSD
-weighting the known pixels within 2 px of the unknown ones 4 times: the same or worse. The
-gravel's sign is at the goal's edge (seam 1.20).
+material section's cases (seed 0, ``python -m benchmarks.heal_cases``): the gravel's cigarette
+butt, seam 1.22 with the draws; one draw read 1.46 (1.38 drawing among all candidates; the
+boundary's guidance halved 1.22 but the other butts' 0.80-0.93, zeroed 1.02 and 0.71-0.85: a
+trade, not a fix; before the guided interpolation 2.18: the copied pebbles meet the photo's
+out of place; the correction's standard deviation 0.10 shows as a grey haze), with patches
+of 10 / 24 px 1.26, 1.35 / 1.52, 1.45. Drawn among 1 (the best only) or 8 within 25%
+instead of 4 within 10%, and the SSD weighting the known pixels within 2 px of the unknown ones
+4 times: the same or worse. The gravel's sign is at the goal's edge (seam 1.20).
 """
 
 from __future__ import annotations
@@ -89,6 +96,9 @@ CANDIDATES, TOLERANCE = 4, 0.1
 #: The whole-region copy: the ring of known pixels it is matched on (pixels), and the largest
 #: ring SSD per pixel, over that of two unrelated pixels (twice the variance), it is taken at.
 RING, WHOLE = 4, 0.5
+#: Regions of at most ``DRAW_PIXELS`` pixels are filled ``DRAWS`` times, the draw kept whose
+#: boundary jump is nearest the photo's own jumps beside it.
+DRAWS, DRAW_PIXELS = 4, 4096
 
 
 def check_mask(mask, shape) -> np.ndarray:
@@ -190,13 +200,41 @@ def heal(photo, mask, *, seed: int = 0, patch: int | None = None,
     report(0.0, "Heal: filling")
     # A region wider than a patch is tried whole first (the onion peel would meet itself).
     whole = _whole(region, hole) if 2 * distance_transform_edt(hole).max() > p else None
-    out, positions = whole or _fill(region, hole, valid, p, rng, report.span(0.0, 0.8))
+    draws = 1 if whole or hole.sum() > DRAW_PIXELS else DRAWS
+    best = (np.inf, None)
+    for k in range(draws):  # the first draw is the one a single draw gives
+        out, positions = whole or _fill(region, hole, valid, p, rng,
+                                        report.span(0.8 * k / draws, 0.8 * (k + 1) / draws))
+        healed = _blend(region, out, positions, hole)
+        best = min(best, (_boundary_misfit(healed, hole), k, healed), key=lambda t: t[:2])
     report(0.8, "Heal: blending the boundary")
-    healed = _blend(region, out, positions, hole)
+    healed = best[2]
     result = a.copy()
     result[rows, cols] = np.where(hole[:, :, None], healed, region)
     report(1.0, "Heal: done")
     return result.reshape(given.shape) if given.ndim == 2 else result
+
+
+def _boundary_misfit(image, hole) -> float:
+    """|log| of the mean jump (sum of |channel differences|) across the hole's boundary over the
+    mean jump one pixel further out, between known pixels in the same direction: 0 when the
+    boundary shows as the photo around it does, above a seam, below a soft edge."""
+    jumps = []
+    for axis in (0, 1):
+        for step in (1, -1):
+            a, b, c = hole, np.roll(hole, -step, axis), np.roll(hole, -2 * step, axis)
+            f1, f2 = np.roll(image, -step, axis), np.roll(image, -2 * step, axis)
+            edge = np.ones_like(hole)  # pairs that np.roll wrapped left out
+            index = np.arange(hole.shape[axis])
+            inside = (index + 2 * step >= 0) & (index + 2 * step < hole.shape[axis])
+            edge &= inside[:, None] if axis == 0 else inside[None, :]
+            across = edge & a & ~b
+            beyond = across & ~c
+            jumps.append((np.abs(f1 - image).sum(2)[across], np.abs(f2 - f1).sum(2)[beyond]))
+    shown = np.concatenate([j[0] for j in jumps]).mean()
+    around = np.concatenate([j[1] for j in jumps])
+    return float(abs(np.log(max(shown, 1e-12) / max(around.mean() if around.size else 0,
+                                                     1e-12))))
 
 
 def _whole(source, hole):
