@@ -228,11 +228,14 @@ def methods(ctx) -> str:
     table = ["| photo | held out | method | joint width | measured | dead-end ratio | "
              "gradient ratio | repeat peak (photo) | CPU s a seed | per seed: dead-end ratio "
              "(structure distance) |", "|---" * 10 + "|"]
-    pictures = []
+    pictures, references = [], []
     for label, load, sigma, held in _method_cases(ctx.quick):
         image = load()
         h, w = image.shape[:2]
         joints = None if sigma is None else Joints.fit(image, sigma)
+        if joints is not None:
+            skeleton, end = joints.skeleton(image, False)
+            references.append(f"{label} {int(end.sum())} on {int(skeleton.sum())} px")
         scale = joint_scale(image)
         measured = f"{2 * scale:.1f} px" if scale else "none"
         own = repeat_peak(image, periodic=False)
@@ -286,6 +289,10 @@ def methods(ctx) -> str:
         "threads), the median over seeds.",
         "",
         *table,
+        "",
+        "The ratios' denominators, the photos' own dead ends on their skeletons (at the "
+        "measure's working scale): " + "; ".join(references) + ". A count of n reads within "
+        "about 1/sqrt(n) of its rate: on a few ends the ratio is mostly noise.",
         "",
         *pictures,
         f"Full-resolution {VIEW} x {VIEW} crops around the corner where four tiles meet.",
