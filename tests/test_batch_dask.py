@@ -203,7 +203,8 @@ def test_ctrl_c_closes_the_cluster_and_leaves_nothing_half_written(tmp_path):
     command = subprocess.Popen(
         [sys.executable, "-m", "texsynth", "-q", "batch", str(photos), "-o", str(out),
          "--size", "192", "--method", "multiscale_mrf"], cwd=CHECKOUT, env=env,
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # as in a terminal
     try:
         deadline = time.monotonic() + 120
         while not list(out.glob("*.png")) and command.poll() is None:

@@ -240,23 +240,23 @@ def test_a_portrait_phone_jpeg_comes_out_upright_at_its_in_size_as_jpeg(tmp_path
         assert written.format == "JPEG" and written.size == (30, 40)  # upright, longer side 40
 
 
+def _default_sigint():  # a non-interactive shell's background jobs ignore SIGINT; a terminal's
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("delay", [0.2, 2.5])  # while Python loads numpy and scipy, and after
 def test_ctrl_c_at_any_moment_is_one_line_and_exit_130(tmp_path, delay):
     write_png(tmp_path / "photo.png", ramp_photo((64, 64)))
     command = [sys.executable, str(REPO / "texsynth_command.py"), "-q", "synthesize",
                str(tmp_path / "photo.png"), "-o", str(tmp_path / "o.png"), "--size", "2048"]
     run = subprocess.Popen(command, cwd=REPO, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.PIPE, text=True)
+                           stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint)
     time.sleep(delay)
     run.send_signal(signal.SIGINT)
     _, err = run.communicate(timeout=60)
     assert run.returncode == 130
     _one_error_line(err, "interrupted")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["photo.png"]
-
-
-def _default_sigint():  # a non-interactive shell's background jobs ignore SIGINT; a terminal's
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.mark.parametrize("delay", [0.1, 0.3, 0.6])  # while Python imports the package
