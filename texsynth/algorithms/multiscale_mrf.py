@@ -165,6 +165,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from ..blocks import feature_distance, joint_repair, multigrid, region_shift
+from ..blocks.joints import luma
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
 from ..blocks.search import Rows, Scratch, WindowRows, best_candidate, disk_offsets, neighbour_table
@@ -382,7 +383,7 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
                                  random_candidates, levels, exemplar_tiles,
                                  1 if work is exemplar else COARSE_FACTOR,
-                                 None if work is exemplar else (exemplar, joints))
+                                 None if work is exemplar else (luma(exemplar), joints))
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
@@ -485,7 +486,7 @@ def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):
     step = 2 ** lv
     for _ in range(REPAIR_ROUNDS):
         positions = joint_repair.render(source, step, shape, photo.shape[:2], wrap)
-        hole = joint_repair.holes(photo, positions, joints, reach)[::step, ::step]
+        hole = joint_repair.holes(photo, positions, joints, reach, step)
         if not hole.any():
             break
         halves = np.where(hole, 0, 2 * visits).astype(np.int16)

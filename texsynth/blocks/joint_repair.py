@@ -21,7 +21,7 @@ Deviations, one line each (ours, not in Neubeck et al. 2004 or Paget & Longstaff
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
+from scipy.spatial import cKDTree
 
 from .joints import Joints
 
@@ -71,10 +71,11 @@ def seams(positions: np.ndarray) -> np.ndarray:
             | (right[..., 1] != 1))
 
 
-def holes(photo: np.ndarray, positions: np.ndarray, joints: Joints, reach: float) -> np.ndarray:
-    """The pixels (bool, the map's H x W) within ``reach`` pixels of a dead end of the joints
-    rendered from ``photo`` at ``positions`` (read on the torus) that lies within ``NEAR``
-    joint widths of a seam (:func:`seams`).
+def holes(photo: np.ndarray, positions: np.ndarray, joints: Joints, reach: float,
+          step: int = 1) -> np.ndarray:
+    """The grid points ``positions[::step, ::step]`` (bool) within ``reach`` pixels of a dead
+    end of the joints rendered from ``photo`` (its colours or luma) at ``positions`` (read on
+    the torus) that lies within ``NEAR`` joint widths of a seam (:func:`seams`).
 
     Examples
     --------
@@ -85,25 +86,29 @@ def holes(photo: np.ndarray, positions: np.ndarray, joints: Joints, reach: float
     >>> bool(holes(wall, p, joints, 4.0).any())  # one copy, on the torus: no hole
     False
     >>> p[:, 40:, 0] = (p[:, 40:, 0] + 8) % 64  # a copy half a course off
-    >>> bool(holes(wall, p, joints, 4.0)[:, 36:44].any())
-    True
+    >>> bool(holes(wall, p, joints, 4.0)[:, 36:44].any()), holes(wall, p, joints, 4.0, 4).shape
+    (True, (16, 16))
     """
-    image = photo[positions[..., 0], positions[..., 1]]
-    _, end = joints.skeleton(image, wrap=True)
+    shape = positions.shape[:2]
+    _, end = joints.skeleton(photo[positions[..., 0], positions[..., 1]], wrap=True)
     f = joints.f
-    near = _within(seams(positions), NEAR * 2 * joints.sigma + f)
-    ends = np.zeros(positions.shape[:2], bool)
     r, c = np.nonzero(end)
-    ends[np.minimum(r * f + f // 2, ends.shape[0] - 1), np.minimum(c * f + f // 2,
-                                                                    ends.shape[1] - 1)] = True
-    ends &= near
-    if not ends.any():
-        return ends
-    return _within(ends, reach)
+    at = np.stack([np.minimum(r * f + f // 2, shape[0] - 1),
+                   np.minimum(c * f + f // 2, shape[1] - 1)], axis=1)
+    at = at[_near(seams(positions), at, NEAR * 2 * joints.sigma + f)]
+    grid = np.stack(np.mgrid[0:shape[0]:step, 0:shape[1]:step], axis=2)
+    if not len(at):
+        return np.zeros(grid.shape[:2], bool)
+    distance, _ = cKDTree(at, boxsize=shape).query(grid.reshape(-1, 2),
+                                                   distance_upper_bound=reach + 1)
+    return (distance <= reach).reshape(grid.shape[:2])
 
 
-def _within(mask: np.ndarray, d: float) -> np.ndarray:
-    """The pixels within ``d`` of ``mask`` on the torus."""
-    m = min(int(np.ceil(d)) + 1, *mask.shape)
-    big = np.pad(mask, m, mode="wrap")
-    return (ndimage.distance_transform_edt(~big) <= d)[m:m + mask.shape[0], m:m + mask.shape[1]]
+def _near(mask: np.ndarray, at: np.ndarray, d: float) -> np.ndarray:
+    """Whether each point ``at`` (N, 2) lies within ``d`` of ``mask`` on the torus."""
+    m = int(np.ceil(d))
+    dy, dx = np.mgrid[-m:m + 1, -m:m + 1]
+    disk = np.hypot(dy, dx) <= d
+    rows = (at[:, 0, None] + dy[disk]) % mask.shape[0]
+    cols = (at[:, 1, None] + dx[disk]) % mask.shape[1]
+    return mask[rows, cols].any(axis=1)
