@@ -119,7 +119,11 @@ each photo to twice its size, seeds 0-2, before / after: pavers' 512 crop 1.30, 
 1.15, 1.17, 1.28 (the paver stubs ending mid-stone gone at full resolution); generated wall
 1.44, 1.50, 1.49 / 1.42, 1.33, 1.32; levels 1-4 and two rounds: pavers 1.17, 1.35, 1.14, wall
 1.25, 1.28, 1.18, but 1.3-1.6x the CPU. Gradient ratio and repeat peak unchanged (1.09-1.10,
-0.18-0.19 on the pavers; 1.01-1.02, 0.46-0.47 on the wall).
+0.18-0.19 on the pavers; 1.01-1.02, 0.46-0.47 on the wall). Flagstones (aztekWall's 512 centre)
+1.46, 1.28, 1.54 / 1.12, 1.05, 1.38; brick wall 0.90, 1.08, 1.09 / 0.98, 0.95, 1.05 and ashlar
+1.10, 1.04, 1.01 / 1.10, 1.08, 1.03. CPU 1.00-1.16x (median 1.10, A/B in one process). Dead
+ends tested within a block (the level's step) more of a seam: worse (pavers 1.38, 1.24, 1.18,
+flagstones 1.54, 1.44).
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
