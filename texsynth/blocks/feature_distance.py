@@ -41,7 +41,7 @@ from scipy import ndimage
 
 from .joints import Joints, joint_scale, luma
 
-__all__ = ["feature_distance", "augment", "working_shape"]
+__all__ = ["feature_distance", "fit", "augment", "working_shape"]
 
 #: The distance's magnitude above this quantile is clipped (the centres of large elements).
 QUANTILE = 0.98
@@ -76,12 +76,44 @@ def feature_distance(photo: np.ndarray, joints: Joints,
     return d[:h, :w]
 
 
-def augment(photo: np.ndarray, joint_width: float, weight: float) -> np.ndarray:
+def fit(photo: np.ndarray, joint_width: float, weight: float) -> Joints | None:
+    """The rule reading ``photo``'s joints ``joint_width`` pixels wide (at half that width,
+    ``Joints.fit``; 0: the width ``joint_scale`` measures), or None when ``weight`` is 0 or the
+    photo has no joint network (a flat photo, none measured).
+
+    Raises ValueError when the joints are wider than an eighth of the shorter side.
+
+    Examples
+    --------
+    >>> i, j = np.mgrid[:96, :128]
+    >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
+    >>> fit(wall, 3.0, 2.0).sigma, fit(wall, 3.0, 0.0)
+    (1.5, None)
+    """
+    if weight <= 0:
+        return None
+    h, w = photo.shape[:2]
+    flat = np.ptp(luma(photo)) == 0  # a flat photo has no joints (and no threshold)
+    if joint_width <= 0:
+        sigma = None if flat else joint_scale(photo)
+        if sigma is None:
+            return None
+        joint_width = 2 * sigma
+    if joint_width > min(h, w) / 8:
+        raise ValueError(f"a joint width of {joint_width:g} px is too wide for the {w} x {h} "
+                         f"exemplar: at most an eighth of its shorter side ({min(h, w) / 8:g} "
+                         "px), or 0 to measure it")
+    return None if flat else Joints.fit(photo, joint_width / 2)
+
+
+def augment(photo: np.ndarray, joint_width: float, weight: float,
+            joints: Joints | None = None) -> np.ndarray:
     """``photo`` (H, W, C) with its feature distance ``d`` to the joints ``joint_width`` (``w``)
     pixels wide (read at half that width, ``Joints.fit``; 0: the width ``joint_scale``
-    measures) as channel C + 1, clipped at its ``QUANTILE``, and ``tanh(d / w)`` as channel
-    C + 2, each scaled to ``weight`` times the colours' standard deviation; ``photo`` itself
-    (the same array) when ``weight`` is 0 or no joints are found (nothing changes).
+    measures; or the ``joints`` :func:`fit` gave) as channel C + 1, clipped at its
+    ``QUANTILE``, and ``tanh(d / w)`` as channel C + 2, each scaled to ``weight`` times the
+    colours' standard deviation; ``photo`` itself (the same array) when ``weight`` is 0 or no
+    joints are found (nothing changes).
 
     Raises ValueError when the joints are wider than an eighth of the shorter side.
 
@@ -98,22 +130,10 @@ def augment(photo: np.ndarray, joint_width: float, weight: float) -> np.ndarray:
     >>> augment(gravel, 0.0, 2.0) is gravel  # no joint network: nothing changes
     True
     """
-    if weight <= 0:
+    joints = fit(photo, joint_width, weight) if joints is None else joints
+    if joints is None:
         return photo
-    h, w = photo.shape[:2]
-    flat = np.ptp(luma(photo)) == 0  # a flat photo has no joints (and no threshold)
-    if joint_width <= 0:
-        sigma = None if flat else joint_scale(photo)
-        if sigma is None:
-            return photo
-        joint_width = 2 * sigma
-    if joint_width > min(h, w) / 8:
-        raise ValueError(f"a joint width of {joint_width:g} px is too wide for the {w} x {h} "
-                         f"exemplar: at most an eighth of its shorter side ({min(h, w) / 8:g} "
-                         "px), or 0 to measure it")
-    if flat:
-        return photo
-    joints = Joints.fit(photo, joint_width / 2)
+    joint_width = 2 * joints.sigma
     mask = joints.mask(photo)
     if mask.all() or not mask.any():
         return photo

@@ -186,11 +186,8 @@ def prune(skeleton: np.ndarray, k: int) -> np.ndarray:
     a = skeleton.copy()
     for _ in range(k):
         a &= ~ends(a)
-    grown = ends(a)
-    for _ in range(k):
-        grown = ndimage.binary_dilation(grown, np.ones((3, 3), bool)) & skeleton & ~a
-        a |= grown
-    return a
+    tips = ends(a)  # regrown k steps through the removed pixels only (scipy's own iterations)
+    return a | ndimage.binary_dilation(tips, np.ones((3, 3), bool), k, skeleton & ~a | tips)
 
 
 def coherence(image: np.ndarray, sigma: float) -> float:
