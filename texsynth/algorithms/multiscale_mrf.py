@@ -164,13 +164,16 @@ REFINE_PIXELS = 512 * 512
 #: Visits per pixel on such a level.
 REFINE_VISITS = 2
 #: Reference seconds of one round of ``multigrid.relax`` beyond its pixels' work (its lattice
-#: draw, the whole-grid need and confidence arrays, a visit's calls): a level takes about
-#: spacing^2 x T rounds whatever its size (issue 45: 64 -> 256 and 2048 x 32 had been predicted
-#: at 0.52 and 0.37 of their time, 32 -> 512 at 1.14, the per-pixel term alone).
-ROUND_COST = 0.0247
-#: A level's fixed work in reference seconds, for the progress only (its build, its first
-#: passes: at 128 -> 256 the coarsest level took 0.024 of the time the model puts at 2.05 s).
-LEVEL_SECONDS = 0.05
+#: draw, the whole-grid need and confidence arrays, a visit's calls), per value compared by a
+#: candidate's visit, and per pixel of an aligned level's grid (``align_regions``: ``SETTLE_COST``
+#: + ``SETTLE_SIDE_COST`` / E, E the exemplar's side at the level's step, as small copies have
+#: more border): least squares on each level's CPU time (23 aligned and 45 relaxed levels of
+#: brick, pool_water and noise exemplars, 32-256 px to 128-1024 px, 2048 x 32, 1024 x 256),
+#: at speed 0.35, times 1.2 to keep the predictions benchmark's three rows' mean ratio (issue 40:
+#: the former 0.0247 per spacing^2 T told the coarsest level 16 % of the progress for 8 % of
+#: the time at 128 -> 256).
+ROUND_COST, VISIT_COST = 1.61e-3, 3.1e-9
+SETTLE_COST, SETTLE_SIDE_COST = 4.4e-5, 1.75e-3
 #: Neighbours whose continuations a refining level proposes (the 3 x 3 ring: nearest first).
 REFINE_PROPOSERS = 8
 #: The fewest levels the automatic choice gives (the former default).
@@ -427,10 +430,9 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
         progress, pool,
         lambda lv, level, source, tick: _align(level, source, radius, tick)
         if lv in aligned and not level.windows else source,
-        [LEVEL_SECONDS + cost for cost in _level_costs(
-            exemplar.shape, width, height, {"radius": radius, "levels": levels,
-                                            "visits": visits,
-                                            "random_candidates": random_candidates})])
+        _level_costs(exemplar.shape, width, height,
+                     {"radius": radius, "levels": levels, "visits": visits,
+                      "random_candidates": random_candidates}, factor))
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
@@ -562,41 +564,46 @@ def _cost(shape, width, height, params):
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
     its own coefficient, 1.35 times that for windows); the table of every table level;
     the passes over the whole exemplar (centring, windows, the random start's draw); per grid
-    pixel of an aligned level (``_aligned``), its K border pairs (0.6 s for a 256 x 256 grid
-    of the brick wall here under load 7, taken as half that quiet, times the 2.6 from this
-    machine's quiet runs to the reference); per level, the relaxation's rounds
-    (``ROUND_COST``). Fitted on
-    64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
+    pixel of an aligned level (``_aligned``), its alignment (``SETTLE_COST``); per level, the
+    relaxation's rounds (``ROUND_COST``); the coarse levels' boost where there are joints
+    (a joint width given). The refining levels' and the tables' coefficients from
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
-    18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
+    18.0 s) and a 1024 photo to 4096."""
+    c = shape[2]
     shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, _ = shape
-    return 0.1 + sum(_level_costs(shape, width, height, params)) + 8e-8 * h * w
+    factor = COARSE_FACTOR if shape[2] > c else 1
+    return 0.1 + sum(map(sum, _level_costs(shape, width, height, params, factor))) + 8e-8 * h * w
 
 
-def _level_costs(shape, width, height, params) -> list[float]:
-    """:func:`_cost`'s terms of each level, finest first: its visits, its table, its copies'
-    alignment. Also the levels' shares of the progress, with ``LEVEL_SECONDS`` each: by grid
-    pixels alone the coarse levels, a tenth of the time at 128 -> 256, had told 1 %."""
+def _level_costs(shape, width, height, params, factor=1) -> list[float]:
+    """:func:`_cost`'s terms of each level, finest first, also the levels' shares of the
+    progress: (relaxation, alignment) each; ``factor`` is the coarse levels' boost
+    (``COARSE_FACTOR`` where there are joints)."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     aligned = _aligned(width, height, n_levels, windows)
+    shapes = grid_shapes(width, height, n_levels)
     costs = []
     spacing = params["radius"] + 1                 # multigrid.relax's lattice step
-    for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
+    for lv, (gh, gw) in enumerate(shapes):
+        boost = factor if lv >= n_levels - COARSE_LEVELS and gh * gw <= COARSE_PIXELS else 1
         if gh * gw > REFINE_PIXELS:
             t = min(params["visits"], REFINE_VISITS)
             visits = 3.0e-9 * (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
                                * (1.35 if lv in windows else 1.0))
         else:
-            t = params["visits"]
-            visits = 6.9e-9 * (gh * gw * params["visits"] * per_visit
-                               * (params["random_candidates"] + 6))
+            t = params["visits"] * boost
+            seeded = 1.0 if lv == n_levels - 1 else 7 / 8  # a quarter start at half confidence
+            visits = VISIT_COST * (gh * gw * t * seeded * per_visit
+                                   * (params["random_candidates"] * boost + k))
         table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
-        rounds = ROUND_COST * spacing ** 2 * t     # the lattice's rounds, whatever the grid
-        costs.append(visits + table + 4e-7 * k * aligned.get(lv, 0) + rounds)
+        rounds = ROUND_COST * spacing ** 2 * (2 * t + 1)  # measured rounds: 1.7-3.2 spacing^2 T
+        side = min(h, w) / 2 ** lv
+        settle = (SETTLE_COST + SETTLE_SIDE_COST / side) * aligned.get(lv, 0)
+        costs.append((visits + table + rounds, settle))
     return costs
 
 
