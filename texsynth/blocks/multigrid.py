@@ -116,8 +116,8 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
         relax(level, source, halves, t, rng, part, lv)
         if settle is not None:
             settling = progress.span(start + work[lv, 0], start + work[lv].sum())
-            source = settle(lv, level, source, functools.partial(settling, 0.0, f"level {lv}: "
-                                                                 "settling"))
+            source = settle(lv, level, source,
+                            lambda f, s=settling, m=f"level {lv}: settling": s(f, m))
     return source
 
 
