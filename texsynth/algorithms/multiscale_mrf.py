@@ -169,11 +169,16 @@ REFINE_VISITS = 2
 #: + ``SETTLE_SIDE_COST`` / E, E the exemplar's side at the level's step, as small copies have
 #: more border): least squares on each level's CPU time (23 aligned and 45 relaxed levels of
 #: brick, pool_water and noise exemplars, 32-256 px to 128-1024 px, 2048 x 32, 1024 x 256),
-#: at speed 0.35, times 1.2 to keep the predictions benchmark's three rows' mean ratio (issue 40:
-#: the former 0.0247 per spacing^2 T told the coarsest level 16 % of the progress for 8 % of
-#: the time at 128 -> 256).
-ROUND_COST, VISIT_COST = 1.61e-3, 3.1e-9
-SETTLE_COST, SETTLE_SIDE_COST = 4.4e-5, 1.75e-3
+#: at speed 0.35 (issue 40: the former 0.0247 per spacing^2 T told the coarsest level 16 % of
+#: the progress for 8 % of the time at 128 -> 256). The predictions benchmark's three rows,
+#: cost x speed over CPU seconds in one process under load 4: 0.83, 1.08, 1.20 (before: 1.31,
+#: 0.77, 0.84).
+ROUND_COST, VISIT_COST = 1.34e-3, 2.6e-9
+SETTLE_COST, SETTLE_SIDE_COST = 3.7e-5, 1.46e-3
+#: The grid's aspect ratio over which its alignment takes twice as long: the walk's waves cross
+#: its long side, each counting every region (9 waves on a 128^2 grid, 25 on 128 x 512, 128 on
+#: 16 x 1024: there 55 % of the run where the square grids' model told 19 %).
+SETTLE_ASPECT = 16
 #: Neighbours whose continuations a refining level proposes (the 3 x 3 ring: nearest first).
 REFINE_PROPOSERS = 8
 #: The fewest levels the automatic choice gives (the former default).
@@ -601,8 +606,9 @@ def _level_costs(shape, width, height, params, factor=1) -> list[float]:
                                    * (params["random_candidates"] * boost + k))
         table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
         rounds = ROUND_COST * spacing ** 2 * (2 * t + 1)  # measured rounds: 1.7-3.2 spacing^2 T
-        side = min(h, w) / 2 ** lv
-        settle = (SETTLE_COST + SETTLE_SIDE_COST / side) * aligned.get(lv, 0)
+        side, aspect = min(h, w) / 2 ** lv, max(gh, gw) / min(gh, gw)
+        settle = ((SETTLE_COST + SETTLE_SIDE_COST / side) * (1 + aspect / SETTLE_ASPECT)
+                  * aligned.get(lv, 0))
         costs.append((visits + table + rounds, settle))
     return costs
 
