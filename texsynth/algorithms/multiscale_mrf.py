@@ -171,9 +171,12 @@ REFINE_VISITS = 2
 #: brick, pool_water and noise exemplars, 32-256 px to 128-1024 px, 2048 x 32, 1024 x 256),
 #: at speed 0.35 (issue 40: the former 0.0247 per spacing^2 T told the coarsest level 16 % of
 #: the progress for 8 % of the time at 128 -> 256). The predictions benchmark's three rows,
-#: cost x speed over CPU seconds in one process under load 4: 0.83, 1.08, 1.20 (before: 1.31,
+#: cost x speed over CPU seconds in one process under load 4: 0.72, 1.01, 1.04 (before: 1.31,
 #: 0.77, 0.84).
-ROUND_COST, VISIT_COST = 1.34e-3, 2.6e-9
+ROUND_COST, VISIT_COST = 1.37e-3, 1.62e-9
+#: A random candidate's cost in neighbours' continuations (those repeat where a copy carries on,
+#: and are scored once): the same fit, 3.7.
+RANDOM_WEIGHT = 3.7
 SETTLE_COST, SETTLE_SIDE_COST = 3.7e-5, 1.46e-3
 #: The grid's aspect ratio over which its alignment takes twice as long: the walk's waves cross
 #: its long side, each counting every region (9 waves on a 128^2 grid, 25 on 128 x 512, 128 on
@@ -603,7 +606,7 @@ def _level_costs(shape, width, height, params, factor=1) -> list[float]:
             t = params["visits"] * boost
             seeded = 1.0 if lv == n_levels - 1 else 7 / 8  # a quarter start at half confidence
             visits = VISIT_COST * (gh * gw * t * seeded * per_visit
-                                   * (params["random_candidates"] * boost + k))
+                                   * (RANDOM_WEIGHT * params["random_candidates"] * boost + k))
         table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
         rounds = ROUND_COST * spacing ** 2 * (2 * t + 1)  # measured rounds: 1.7-3.2 spacing^2 T
         side, aspect = min(h, w) / 2 ** lv, max(gh, gw) / min(gh, gw)
