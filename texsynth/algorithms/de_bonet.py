@@ -143,12 +143,18 @@ COHERENT_COST = 0.56
 #: ms CPU at load 14, 1.6 ms quiet, from 32^2 to 512^2 and 1024^2 and 64^2 to 1024^2; the
 #: 1849 blocks of 32^2 -> 1024^2 took 57 % of its CPU time, and the model had no term).
 QUILT_COST = 2.7e-3
-#: Work, in free queries, per exemplar location of a level (its projection and index), per
-#: exemplar pixel analysed and per output pixel collapsed: the shares of the progress (their
-#: CPU times over the same levels' queries, median of 3 warm runs at 128^2 -> 256^2, 256^2 ->
-#: 512^2 and 512^2 -> 1024^2: the index 0.25-0.67 a location, the analysis 0.09-0.1, the
-#: collapse 0.03; 0.15 for the index told 1.65x the time left at 10 % of 256^2 -> 512^2).
-INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 0.5, 0.09, 0.036
+#: Work, in free queries, per square root of a level's exemplar locations (its projection and
+#: index: 7-9, 26, 60, 107, 194 and 190 ms CPU at 32^2 to 1024^2, about proportional to the
+#: side, the first queries' chunk 0.3-0.7x that more; 0.5 a location had told 0.06-0.13 of the
+#: progress for 0.03-0.19), per exemplar pixel analysed and per output pixel collapsed: the
+#: shares of the progress (their CPU times over the same levels' queries, median of 3 warm runs
+#: at 128^2 -> 256^2, 256^2 -> 512^2 and 512^2 -> 1024^2: the analysis 0.09-0.1, the collapse
+#: 0.03).
+INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 150.0, 0.09, 0.036
+#: Work, in free queries, per block of the coarsest level's quilting, for the progress (issue
+#: 40: 0.8-1.3 ms CPU a block against 2.6-3.5 us a query from 256^2 to 512^2, 64^2 to
+#: 1024 x 256 and 32^2 to 1024^2, where the quilting, told nothing, took 1 %, 17 % and 55 %).
+QUILT_WORK = 330.0
 
 
 def _per_channel(level: int, top: int, orientations: int) -> int:
@@ -461,12 +467,17 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
     ex_shapes = [f.shape[:2] for f in features]
     sources = [None] * (top + 1)
 
+    work = level_work(ex_shapes, out_shapes)
+    ends = np.cumsum([0.0, quilt_work(ex_shapes, out_shapes)] + work[::-1])
+    ends /= max(ends[-1], 1.0)                    # nothing to sample: no shares
     hs, ws = ex_shapes[top]
     quilt = quilted(ex_shapes[top], out_shapes[top])
     if quilt:
         block, overlap, radius = _quilt_block(min(hs, ws))
         sources[top] = torus_quilt(features[top], out_shapes[top], block, rng,
-                                   overlap=overlap, radius=radius).astype(np.int32)
+                                   overlap=overlap, radius=radius,
+                                   tick=lambda f: progress(f * ends[1], "quilting the "
+                                                           "coarsest level")).astype(np.int32)
     else:
         oy = _offset(features[top], out_shapes[top][0], rng, features[:top])
         ox = _offset(features[top].transpose(1, 0, 2), out_shapes[top][1], rng,
@@ -476,13 +487,10 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
         sources[top] = (ys[:, None] * ws + xs[None, :]).astype(np.int32)
 
     scale = {}
-    work = level_work(ex_shapes, out_shapes)
-    ends = np.cumsum([0.0] + work[::-1])
-    ends /= max(ends[-1], 1.0)                    # no level to sample: no shares
     for level in range(top - 1, -1, -1):
         # the level's index first, its queries after: the sampling's ticks start past its share
-        indexed = INDEX_WORK * ex_shapes[level][0] * ex_shapes[level][1] / work[level]
-        step = progress.span(ends[top - 1 - level], ends[top - level])
+        indexed = INDEX_WORK * math.sqrt(ex_shapes[level][0] * ex_shapes[level][1]) / work[level]
+        step = progress.span(ends[top - level], ends[top - level + 1])
         message = f"level {level + 1} of {top}: indexing the exemplar"
         for a in range(level + 1, min(level + depth, top) + 1):
             if a not in scale:                            # an ancestor's spread, once
@@ -533,8 +541,15 @@ def level_work(ex_shapes, out_shapes) -> list[float]:
     The progress goes by it: equal shares told a quarter done at a twentieth of the time."""
     quilt = quilted(ex_shapes[-1], out_shapes[-1])   # every level draws coherent ones first
     return [h * w * (COHERENT_COST if quilt or h * w > COHERENT_PIXELS else 1.0)
-            + INDEX_WORK * ex[0] * ex[1]
+            + INDEX_WORK * math.sqrt(ex[0] * ex[1])
             for ex, (h, w) in zip(ex_shapes[:-1], out_shapes[:-1], strict=True)]
+
+
+def quilt_work(ex_shapes, out_shapes) -> float:
+    """The coarsest level's quilting's work in free queries (``QUILT_WORK`` a block; none
+    where it is copied): its share of the progress, beside :func:`level_work`'s."""
+    ex, out = ex_shapes[-1], out_shapes[-1]
+    return QUILT_WORK * block_count(out, *_quilt_block(min(ex))[:2]) if quilted(ex, out) else 0.0
 
 
 def _offset(f: np.ndarray, n: int, rng: np.random.Generator, finer=()) -> int:
@@ -621,7 +636,8 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
     pyr_exemplar = LaplacianPyramid(exemplar.shape[:2], levels)
     pyr_output = LaplacianPyramid((height, width), levels)
     work = [ANALYSIS_WORK * exemplar.shape[0] * exemplar.shape[1],
-            sum(level_work(pyr_exemplar.level_shapes, pyr_output.level_shapes)),
+            sum(level_work(pyr_exemplar.level_shapes, pyr_output.level_shapes))
+            + quilt_work(pyr_exemplar.level_shapes, pyr_output.level_shapes),
             COLLAPSE_WORK * width * height]         # the progress' shares (level_work)
     analysed, sampled = work[0] / sum(work), (work[0] + work[1]) / sum(work)
     progress(0.0, "analysing the exemplar")

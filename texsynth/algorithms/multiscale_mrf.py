@@ -183,13 +183,24 @@ REFINE_PIXELS = 512 * 512
 #: Visits per pixel on such a level.
 REFINE_VISITS = 2
 #: Reference seconds of one round of ``multigrid.relax`` beyond its pixels' work (its lattice
-#: draw, the whole-grid need and confidence arrays, a visit's calls): a level takes about
-#: spacing^2 x T rounds whatever its size (issue 45: 64 -> 256 and 2048 x 32 had been predicted
-#: at 0.52 and 0.37 of their time, 32 -> 512 at 1.14, the per-pixel term alone).
-ROUND_COST = 0.0247
-#: A level's fixed work in reference seconds, for the progress only (its build, its first
-#: passes: at 128 -> 256 the coarsest level took 0.024 of the time the model puts at 2.05 s).
-LEVEL_SECONDS = 0.05
+#: draw, the whole-grid need and confidence arrays, a visit's calls), per value compared by a
+#: candidate's visit, and per pixel of an aligned level's grid (``align_regions``: ``SETTLE_COST``
+#: + ``SETTLE_SIDE_COST`` / E, E the exemplar's side at the level's step, as small copies have
+#: more border): least squares on each level's CPU time (23 aligned and 45 relaxed levels of
+#: brick, pool_water and noise exemplars, 32-256 px to 128-1024 px, 2048 x 32, 1024 x 256),
+#: at speed 0.35 (issue 40: the former 0.0247 per spacing^2 T told the coarsest level 16 % of
+#: the progress for 8 % of the time at 128 -> 256). The predictions benchmark's three rows,
+#: cost x speed over CPU seconds in one process under load 4: 0.72, 1.01, 1.04 (before: 1.31,
+#: 0.77, 0.84).
+ROUND_COST, VISIT_COST = 1.37e-3, 1.62e-9
+#: A random candidate's cost in neighbours' continuations (those repeat where a copy carries on,
+#: and are scored once): the same fit, 3.7.
+RANDOM_WEIGHT = 3.7
+SETTLE_COST, SETTLE_SIDE_COST = 3.7e-5, 1.46e-3
+#: The grid's aspect ratio over which its alignment takes twice as long: the walk's waves cross
+#: its long side, each counting every region (9 waves on a 128^2 grid, 25 on 128 x 512, 128 on
+#: 16 x 1024: there 55 % of the run where the square grids' model told 19 %).
+SETTLE_ASPECT = 16
 #: Neighbours whose continuations a refining level proposes (the 3 x 3 ring: nearest first).
 REFINE_PROPOSERS = 8
 #: The fewest levels the automatic choice gives (the former default).
@@ -215,6 +226,9 @@ COARSE_LEVELS, COARSE_FACTOR, COARSE_PIXELS = 3, 4, 64 * 64
 #: (``joint_repair``), the rounds of it, and the reach of a hole (the level's neighbourhood
 #: radii, r 2^l pixels).
 REPAIR_LEVELS, REPAIR_ROUNDS, REPAIR_REACH = range(2, 5), 1, 1.5
+#: A repaired level's seconds: per output pixel (its map rendered and read at full resolution)
+#: and a share of the level's visits (the holes relaxed again).
+REPAIR_PIXEL_COST, REPAIR_SHARE = 5e-7, 0.5  # fitted on bricks 128 -> 256, pavers 512 -> 1024
 
 
 class _Level:
@@ -451,20 +465,24 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
     def visits_of(lv):
         return min(visits, REFINE_VISITS) if refines(lv) else visits * boost(lv)
 
+    costs = _level_costs(exemplar.shape, width, height,
+                         {"radius": radius, "levels": levels, "visits": visits,
+                          "random_candidates": random_candidates}, factor, repair is not None)
+
     def settle(lv, level, source, tick):
+        _, aligning, repairing = costs[lv]
+        split = aligning / max(aligning + repairing, 1e-12)  # the settling's share: aligning
         if lv in aligned and not level.windows:
-            source = _align(level, source, radius, tick)
+            source = _align(level, source, radius, lambda f: tick(split * f))
         if repair is not None and lv in REPAIR_LEVELS:
             source = _repair(level, source, lv, visits_of(lv), (height, width), repair,
-                             REPAIR_REACH * radius * 2 ** lv, exemplar_tiles, rng, tick)
+                             REPAIR_REACH * radius * 2 ** lv, exemplar_tiles, rng,
+                             lambda f: tick(split + (1 - split) * f))
         return source
 
     source = multigrid.synthesize_positions(
         make_level, h * w, shapes, visits_of, rng, progress, pool, settle,
-        [LEVEL_SECONDS + cost for cost in _level_costs(
-            exemplar.shape, width, height, {"radius": radius, "levels": levels,
-                                            "visits": visits,
-                                            "random_candidates": random_candidates})])
+        [(relaxing, aligning + repairing) for relaxing, aligning, repairing in costs])
     progress(1.0, "copying the pixels")
     positions = np.empty(source.shape + (2,), np.int32)
     np.divmod(source, w, out=(positions[:, :, 0], positions[:, :, 1]))
@@ -488,13 +506,14 @@ def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):
     ``REPAIR_ROUNDS`` times."""
     photo, joints = repair
     step = 2 ** lv
-    for _ in range(REPAIR_ROUNDS):
+    for r in range(REPAIR_ROUNDS):
         positions = joint_repair.render(source, step, shape, photo.shape[:2], wrap)
         hole = joint_repair.holes(photo, positions, joints, reach, step)
         if not hole.any():
             break
         halves = np.where(hole, 0, 2 * visits).astype(np.int16)
-        multigrid.relax(level, source, halves, visits, rng, lambda *_: tick(), lv)
+        multigrid.relax(level, source, halves, visits, rng,
+                        lambda f, *_, r=r: tick((r + f) / REPAIR_ROUNDS), lv)
     return source
 
 
@@ -612,41 +631,51 @@ def _cost(shape, width, height, params):
     level: ``REFINE_VISITS`` visits, ``REFINE_PROPOSERS`` candidates, most pixels left unscored,
     its own coefficient, 1.35 times that for windows); the table of every table level;
     the passes over the whole exemplar (centring, windows, the random start's draw); per grid
-    pixel of an aligned level (``_aligned``), its K border pairs (0.6 s for a 256 x 256 grid
-    of the brick wall here under load 7, taken as half that quiet, times the 2.6 from this
-    machine's quiet runs to the reference); per level, the relaxation's rounds
-    (``ROUND_COST``). Fitted on
-    64 px exemplars to 64-192 px outputs; the refining levels' and the tables' coefficients on
+    pixel of an aligned level (``_aligned``), its alignment (``SETTLE_COST``); per level, the
+    relaxation's rounds (``ROUND_COST``); the coarse levels' boost where there are joints
+    (a joint width given). The refining levels' and the tables' coefficients from
     the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
-    18.0 s, 2.2x the earlier fit made under load) and a 1024 photo to 4096."""
+    18.0 s) and a 1024 photo to 4096."""
+    c = shape[2]
     shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, _ = shape
-    return 0.1 + sum(_level_costs(shape, width, height, params)) + 8e-8 * h * w
+    factor = COARSE_FACTOR if shape[2] > c else 1
+    return 0.1 + sum(map(sum, _level_costs(shape, width, height, params, factor,
+                                           factor > 1))) + 8e-8 * h * w
 
 
-def _level_costs(shape, width, height, params) -> list[float]:
-    """:func:`_cost`'s terms of each level, finest first: its visits, its table, its copies'
-    alignment. Also the levels' shares of the progress, with ``LEVEL_SECONDS`` each: by grid
-    pixels alone the coarse levels, a tenth of the time at 128 -> 256, had told 1 %."""
+def _level_costs(shape, width, height, params, factor=1, repair=False) -> list[float]:
+    """:func:`_cost`'s terms of each level, finest first, also the levels' shares of the
+    progress: (relaxation, alignment, joint repair) each; ``factor`` is the coarse levels'
+    boost (``COARSE_FACTOR`` where there are joints), ``repair`` whether the joints are
+    repaired (``REPAIR_LEVELS``: where there are joints)."""
     h, w, c = shape
     k = len(disk_offsets(params["radius"]))
     per_visit = k * (c + 1)
     s, rows, n_levels, windows = _plan(shape, width, height, params)
     aligned = _aligned(width, height, n_levels, windows)
+    shapes = grid_shapes(width, height, n_levels)
     costs = []
     spacing = params["radius"] + 1                 # multigrid.relax's lattice step
-    for lv, (gh, gw) in enumerate(grid_shapes(width, height, n_levels)):
+    for lv, (gh, gw) in enumerate(shapes):
+        boost = factor if lv >= n_levels - COARSE_LEVELS and gh * gw <= COARSE_PIXELS else 1
         if gh * gw > REFINE_PIXELS:
             t = min(params["visits"], REFINE_VISITS)
             visits = 3.0e-9 * (gh * gw * REFINE_VISITS * per_visit * REFINE_PROPOSERS
                                * (1.35 if lv in windows else 1.0))
         else:
-            t = params["visits"]
-            visits = 6.9e-9 * (gh * gw * params["visits"] * per_visit
-                               * (params["random_candidates"] + 6))
+            t = params["visits"] * boost
+            seeded = 1.0 if lv == n_levels - 1 else 7 / 8  # a quarter start at half confidence
+            visits = VISIT_COST * (gh * gw * t * seeded * per_visit
+                                   * (RANDOM_WEIGHT * params["random_candidates"] * boost + k))
         table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
-        rounds = ROUND_COST * spacing ** 2 * t     # the lattice's rounds, whatever the grid
-        costs.append(visits + table + 4e-7 * k * aligned.get(lv, 0) + rounds)
+        rounds = ROUND_COST * spacing ** 2 * (2 * t + 1)  # measured rounds: 1.7-3.2 spacing^2 T
+        side, aspect = min(h, w) / 2 ** lv, max(gh, gw) / min(gh, gw)
+        settle = ((SETTLE_COST + SETTLE_SIDE_COST / side) * (1 + aspect / SETTLE_ASPECT)
+                  * aligned.get(lv, 0))
+        mending = (REPAIR_PIXEL_COST * width * height + REPAIR_SHARE * visits
+                   if repair and lv in REPAIR_LEVELS else 0.0)
+        costs.append((visits + table + rounds, settle, mending))
     return costs
 
 

@@ -307,7 +307,7 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
         if lv >= 1:  # the copies slide into phase while their layout is still coarse
             label = f"level {lv}: aligning copies"
             positions = align_regions(z, positions, SHIFT,
-                                      tick=lambda d=done, m=label: progress(d, m),
+                                      tick=lambda _, d=done, m=label: progress(d, m),
                                       walk=courses)
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 

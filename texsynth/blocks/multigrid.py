@@ -80,15 +80,16 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
                          progress: Progress,
                          pool: Callable[[int], np.ndarray | None] | None = None,
                          settle: Callable[..., np.ndarray] | None = None,
-                         work: list[float] | None = None) -> np.ndarray:
+                         work: list[tuple[float, float]] | None = None) -> np.ndarray:
     """The finest level's position map (flat indices into the ``n`` exemplar pixels), relaxed
     coarse to fine; ``make_level(l, tick)`` builds level l's distance (fig. 9) and may
     call ``tick()`` on the way (where the caller may cancel); ``visits`` is T, or
     T per level as ``visits(l)``; ``pool(l)``, when given and not None, the exemplar positions
     level l draws its random start from (a level that searches a lattice of the exemplar);
-    ``work``, each level's share of the progress (any scale; default its grid pixels)."""
+    ``work``, each level's shares of the progress, (relaxation, settling) (any scale; default
+    its grid pixels and none)."""
     n_levels = len(shapes)
-    work = np.array([gh * gw for gh, gw in shapes] if work is None else work, float)
+    work = np.array([(gh * gw, 0.0) for gh, gw in shapes] if work is None else work, float)
     work /= work.sum()
 
     # Confidence w is counted in halves of a visit: w = halves / (2 T), final at 2 T.
@@ -99,7 +100,7 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
     halves = np.zeros(shapes[-1], np.int16)
     for lv in reversed(range(n_levels)):
         start = work[lv + 1:].sum()
-        part = progress.span(start, start + work[lv])
+        part = progress.span(start, start + work[lv, 0])
         t = visits(lv) if callable(visits) else visits
         building = functools.partial(part, 0.0, f"level {lv}: building")
         if lv < n_levels - 1:
@@ -114,8 +115,9 @@ def synthesize_positions(make_level: Callable[[int, Callable[[], None]], object]
         level = make_level(lv, building)
         relax(level, source, halves, t, rng, part, lv)
         if settle is not None:
-            source = settle(lv, level, source, functools.partial(part, 1.0, f"level {lv}: "
-                                                                 "settling"))
+            settling = progress.span(start + work[lv, 0], start + work[lv].sum())
+            source = settle(lv, level, source,
+                            lambda f, s=settling, m=f"level {lv}: settling": s(f, m))
     return source
 
 

@@ -167,7 +167,7 @@ def block_count(shape: tuple[int, int], block: int, overlap: int | None = None) 
 
 def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.random.Generator,
                 overlap: int | None = None, tolerance: float = 0.1,
-                radius: int | None = None) -> np.ndarray:
+                radius: int | None = None, tick=None) -> np.ndarray:
     """A position map of ``shape`` (int64 flat indices into ``source``'s (h, w) grid) quilted
     from blocks of the periodic (h, w, C) ``source``: Efros & Freeman 2001, 2.1, on a torus.
 
@@ -180,7 +180,7 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
     some are, half that from every block's, whose source is that far from every other
     block's; and each strip is cut along
     its minimum error path (:func:`min_error_path`). The map tiles: its wrap is a cut like the
-    others.
+    others. ``tick(fraction)``, when given, is told the share of the blocks placed after each.
 
     Examples
     --------
@@ -242,6 +242,8 @@ def torus_quilt(source: np.ndarray, shape: tuple[int, int], block: int, rng: np.
             values[grid] = np.where(put[:, :, None], new, template)
             flat = ((py + r) % h) * w + (px + c) % w
             where[grid] = np.where(put, flat, where[grid])
+            if tick is not None:
+                tick((i * nx + j + 1) / (ny * nx))
     return where
 
 

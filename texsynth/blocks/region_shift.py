@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import connected_components, shortest_path
 
 from .search import disk_offsets
 
@@ -99,7 +99,7 @@ def _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
     """(len(deltas), n): each region's seam cost along its ``borders`` (``_borders``) with its
     shift moved by each delta (exemplar pixels; the rest fixed), output neighbours ``step``
     exemplar pixels apart, the exemplar (``shape``) given as its flat channel ``planes``;
-    infinite where a moved pixel leaves the exemplar; ``tick()`` after each step g. With
+    infinite where a moved pixel leaves the exemplar; ``tick(fraction)`` after each step g. With
     ``movers`` and ``placed`` (bool, n), only the borders of movers with placed regions."""
     zh, zw = shape
     dy, dx = np.asarray(deltas).T
@@ -111,7 +111,7 @@ def _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
     def at(r, c):  # flat exemplar index, clipped to the exemplar
         return np.clip(r, 0, zh - 1) * zw + np.clip(c, 0, zw - 1)
 
-    for g, s_at, t_at in borders:
+    for done, (g, s_at, t_at) in enumerate(borders, 1):
         owner = labels[s_at]
         if movers is not None:
             keep = movers[owner] & placed[labels[t_at]]
@@ -130,7 +130,7 @@ def _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
             cost += np.bincount(bins, e.ravel(), n * len(deltas)).reshape(-1, n)
             out = (r < 0) | (r >= zh) | (c < 0) | (c >= zw)
             outside |= np.bincount(bins, out.ravel(), n * len(deltas)).reshape(-1, n) > 0
-        tick()
+        tick(done / len(borders))
     cost[outside] = np.inf
     return cost
 
@@ -165,20 +165,28 @@ def _independent(label, gain):
     return (gain > 0) & ~blocked
 
 
-def _walk(planes, shape, positions, deltas, step, tick, reach):
+def _walk(planes, shape, positions, deltas, step, tick, reach, sweeps):
     """Each copy joined to those placed before it, breadth first from the largest: a wave of
     the copies bordering the placed ones takes, each, the move that best joins its seams with
-    the placed copies (none unless it gains), then counts as placed."""
+    the placed copies (none unless it gains), then counts as placed. ``tick(fraction)`` is told
+    the share done of the walk and the ``sweeps`` after it (:func:`_shares`); returns the
+    positions and the sweeps' first share."""
     n, label = regions(positions, step)
     if n < 2:
-        return positions
+        return positions, 0.0
     borders = _borders(label, reach)
     still = deltas.index((0, 0))
     pairs = np.concatenate([np.stack([label.ravel(), np.roll(label, -1, axis).ravel()], axis=1)
                             for axis in (0, 1)])
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     placed = np.zeros(n, bool)
-    placed[np.bincount(label.ravel(), minlength=n).argmax()] = True
+    root = np.bincount(label.ravel(), minlength=n).argmax()
+    placed[root] = True
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    waves = int(np.nanmax(np.where(np.isinf(d := shortest_path(
+        graph, directed=False, unweighted=True, indices=root)), np.nan, d)))
+    wave_share, start = _shares(waves, sweeps, n, len(deltas), len(planes), borders)
+    k = 0
     extents = _extents(positions, label, n)
     while not placed.all():
         wave = np.zeros(n, bool)
@@ -187,8 +195,9 @@ def _walk(planes, shape, positions, deltas, step, tick, reach):
         wave &= ~placed
         if not wave.any():  # not reached (a region graph on the torus is connected)
             break
-        cost = _seam_costs(planes, shape, positions, label, n, deltas, step, tick, borders,
-                           wave, placed)
+        cost = _seam_costs(planes, shape, positions, label, n, deltas, step,
+                           lambda f, k=k: tick((k + f) * wave_share), borders, wave, placed)
+        k += 1
         cost[_off(extents, deltas, shape)] = np.inf
         best = cost.argmin(axis=0)
         best[~wave | (cost[best, np.arange(n)] >= cost[still])] = still
@@ -196,11 +205,23 @@ def _walk(planes, shape, positions, deltas, step, tick, reach):
         positions += moved[label]
         extents += moved.T.repeat(2, axis=0)
         placed |= wave
-    return positions
+    return positions, start
+
+
+def _shares(waves, sweeps, n, d, c, borders):
+    """The walk's share of its work per wave and the sweeps' first share: a wave counts its
+    bins (n regions x D deltas, per step g) and a third of the border pairs' gathers over its
+    waves (what the walk's border masks keep: 0.3-0.4 of the pairs in the brick wall's and
+    pool_water's maps), a sweep its bins and every pair's (D C values each)."""
+    pairs = sum(len(s_at) for _, s_at, _ in borders)
+    wave = n * d * len(borders) + pairs * d * c / (3 * max(waves, 1))
+    sweep = n * d * len(borders) + pairs * d * c
+    total = waves * wave + sweeps * sweep
+    return wave / total, waves * wave / total
 
 
 def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
-                  sweeps: int = 3, tick=lambda: None, step: int = 1,
+                  sweeps: int = 3, tick=lambda fraction: None, step: int = 1,
                   walk: bool = False, reach: int = 1) -> np.ndarray:
     """Slide the verbatim copies of a position map by up to ``radius`` steps each way so their
     seams join; returns new positions (H, W, 2) into ``z`` (h, w, C).
@@ -211,7 +232,7 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
     positions : (H, W, 2) int exemplar row and column of each output pixel (the output wraps).
     radius : the largest move of a region, per axis, in steps.
     sweeps : rounds of moves (fewer when no region gains).
-    tick : called between steps (so Esc is heard).
+    tick : called between steps (so Esc is heard) with the share of the work done (0..1).
     step : exemplar pixels between neighbouring output pixels (a coarse grid's 2^l), and the
         unit of the moves.
     walk : before the sweeps, join each copy to its placed neighbours, breadth first from the
@@ -239,15 +260,19 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
     still = deltas.index((0, 0))
     positions = positions.copy()
     planes = [np.ascontiguousarray(z[:, :, k]).ravel() for k in range(z.shape[2])]
+    start = 0.0
     if walk:
-        positions = _walk(planes, z.shape[:2], positions, deltas, step, tick, reach)
-    for _ in range(sweeps):
+        positions, start = _walk(planes, z.shape[:2], positions, deltas, step, tick, reach,
+                                 sweeps)
+    for k in range(sweeps):
         n, label = regions(positions, step)
-        tick()
+        share = (1.0 - start) / (sweeps - k)   # the sweeps left share what is left
+        tick(start)
         if n < 2:
             break
-        cost = _seam_costs(planes, z.shape[:2], positions, label, n, deltas, step, tick,
-                           _borders(label, reach))
+        cost = _seam_costs(planes, z.shape[:2], positions, label, n, deltas, step,
+                           lambda f, a=start, b=share: tick(a + f * b), _borders(label, reach))
+        start += share
         cost[_off(_extents(positions, label, n), deltas, z.shape[:2])] = np.inf
         best = cost.argmin(axis=0)
         gain = cost[still] - cost[best, np.arange(n)]
