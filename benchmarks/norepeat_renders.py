@@ -123,22 +123,49 @@ def render() -> tuple[np.ndarray, float]:
         return read_png(scene.render.filepath)[:, :, :3], seconds
 
 
-def wasserstein(a: np.ndarray, b: np.ndarray, quantiles: int = 512) -> list[float]:
-    """Per-channel W1 distance between the pixel values of two images."""
+def _quantiles(values: np.ndarray, p: np.ndarray, weights: np.ndarray | None) -> np.ndarray:
+    """The ``p`` quantiles of ``values``, each counted ``weights`` times (uniformly if None)."""
+    if weights is None:
+        return np.quantile(values, p)
+    order = np.argsort(values, axis=None)
+    cumulative = np.cumsum(weights.ravel()[order])
+    at = np.searchsorted(cumulative / cumulative[-1], p).clip(0, values.size - 1)
+    return values.ravel()[order][at]
+
+
+def wasserstein(a: np.ndarray, b: np.ndarray, quantiles: int = 512,
+                weights: np.ndarray | None = None) -> list[float]:
+    """Per-channel W1 distance between the pixel values of two images (those of ``b`` each
+    counted ``weights`` (H, W) times, if given)."""
     p = (np.arange(quantiles) + 0.5) / quantiles
-    return [float(np.abs(np.quantile(a[..., k], p) - np.quantile(b[..., k], p)).mean())
+    return [float(np.abs(np.quantile(a[..., k], p) - _quantiles(b[..., k], p, weights)).mean())
             for k in range(a.shape[2])]
 
 
-def measures(plain: np.ndarray, after: np.ndarray, period: int) -> dict:
+def drawn(use: np.ndarray, shape: tuple, period: int) -> np.ndarray:
+    """Weights (H, W) of a render from above of the photo repeated every ``period`` pixels:
+    each pixel's share ``use`` (the photo's (h, w), e.g. ``texsynth.norepeat.photo_use``) of
+    the photo texels it shows, box-averaged to the render's pixels and laid tile by tile."""
+    f = use.shape[0] // period
+    block = use[:period * f, :period * f].reshape(period, f, period, f).mean(axis=(1, 3))
+    return np.tile(block, (-(-shape[0] // period), -(-shape[1] // period)))[:shape[0], :shape[1]]
+
+
+def measures(plain: np.ndarray, after: np.ndarray, period: int,
+             use: np.ndarray | None = None) -> dict:
     """The issue's goals from a plain and an after render (from above, ``period`` pixels a
     tile): correlation at the period of each, the autocorrelation's largest peak at any shift
     of 24 px or more of each, per-channel Wasserstein between them, their gradient and
-    structure-tensor anisotropy ratios (after / plain)."""
+    structure-tensor anisotropy ratios (after / plain). ``use`` (the photo's (h, w)): how
+    much the after render shows of each photo pixel; the plain render's pixels are then
+    weighted by it in the anisotropy and Wasserstein (like with like: a Tile Set never shows
+    the photo's outermost rows, a plain render shows them every tile)."""
+    weights = None if use is None else drawn(use, plain.shape, period)
     return {"corr_plain": period_correlation(plain, period),
             "corr_after": period_correlation(after, period),
             "peak_plain": repetition_peak(plain), "peak_after": repetition_peak(after),
-            "anisotropy_ratio": anisotropy(after) / max(anisotropy(plain), 1e-12),
-            "wasserstein": max(wasserstein(plain, after)),
+            "anisotropy_ratio": anisotropy(after)
+            / max(anisotropy(plain, weights=weights), 1e-12),
+            "wasserstein": max(wasserstein(after, plain, weights=weights)),
             "gradient_ratio": mean_gradient(luminance(after), wrap=False)
             / mean_gradient(luminance(plain), wrap=False)}

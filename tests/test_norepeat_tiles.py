@@ -12,6 +12,7 @@ import texsynth
 from texsynth.norepeat import (
     WangTiles,
     edge_colours,
+    photo_use,
     predict_tiles_memory,
     repetition_peak,
     wang_tiles,
@@ -158,6 +159,19 @@ def test_the_default_tiling_repeats_at_no_shift():
     out = wang_tiling(tiles, 12 * tiles.tile, 12 * tiles.tile, cells=12, wrap=False)
     seen = out.reshape(out.shape[0] // 2, 2, out.shape[1] // 2, 2, 3).mean(axis=(1, 3))
     assert repetition_peak(seen, 24) <= 0.3
+
+
+def test_photo_use_is_how_often_a_tiling_shows_each_photo_pixel(wall, tiles):
+    """Issue 41: a Tile Set render is compared with the plain one weighted by photo_use; laid
+    over many cells the tiling shows each photo pixel about that often, the photo's middle
+    most and its outermost rows never."""
+    use = photo_use(tiles)
+    _, at = wang_tiling_positions(tiles, 40 * tiles.tile, 40 * tiles.tile, cells=40)
+    shown = np.bincount(np.ravel_multi_index(at.reshape(-1, 2).T, wall.shape[:2]),
+                        minlength=wall.shape[0] * wall.shape[1]).reshape(wall.shape[:2])
+    assert use.shape == wall.shape[:2] and np.isclose(use.sum(), 1.0)
+    assert np.corrcoef(use.ravel(), shown.ravel())[0, 1] > 0.95
+    assert use[0].sum() == use[-1].sum() == 0 < use[len(use) // 2].sum()
 
 
 def test_same_seed_same_tiles_and_another_seed_others(wall, tiles):

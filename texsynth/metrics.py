@@ -561,12 +561,15 @@ def repetition_peak(image: np.ndarray, min_shift: float = 24.0) -> float:
     return float(found.max()) if found.size else 0.0
 
 
-def anisotropy(image: np.ndarray, sigma: float = 1.0) -> float:
+def anisotropy(image: np.ndarray, sigma: float = 1.0, weights: np.ndarray | None = None
+               ) -> float:
     """The anisotropy of the structure tensor summed over the whole image, ``(l1 - l2) / (l1 +
     l2)`` of its eigenvalues: 0 when no gradient direction prevails (gravel; a texture
     turned every way), towards 1 for parallel stripes (layers, courses, streaks).
 
-    Gradients are Gaussian derivatives (``sigma`` pixels) of the luminance.
+    Gradients are Gaussian derivatives (``sigma`` pixels) of the luminance. ``weights`` (H,
+    W), non-negative: the tensor summed with these weights (each pixel counted as often as
+    it is weighted), not uniformly.
 
     References
     ----------
@@ -579,10 +582,16 @@ def anisotropy(image: np.ndarray, sigma: float = 1.0) -> float:
     >>> noise = np.random.default_rng(0).random((64, 64))
     >>> round(anisotropy(stripes), 2), bool(anisotropy(noise) < 0.1)
     (1.0, True)
+    >>> half = np.concatenate([stripes[:32], noise[32:]])
+    >>> on_stripes = np.repeat([1.0, 0.0], 32)[:, None] * np.ones(64)
+    >>> a = [anisotropy(half, weights=w) for w in (on_stripes, None, 1 - on_stripes)]
+    >>> bool(a[0] > a[1] > a[2])
+    True
     """
     y = luminance(image)
+    w = 1.0 if weights is None else np.broadcast_to(weights, y.shape)
     gx = gaussian_filter(y, sigma, order=(0, 1))
     gy = gaussian_filter(y, sigma, order=(1, 0))
-    jxx, jyy, jxy = (gx * gx).sum(), (gy * gy).sum(), (gx * gy).sum()
+    jxx, jyy, jxy = (w * gx * gx).sum(), (w * gy * gy).sum(), (w * gx * gy).sum()
     trace = jxx + jyy
     return float(np.sqrt((jxx - jyy) ** 2 + 4 * jxy ** 2) / trace) if trace > 0 else 0.0

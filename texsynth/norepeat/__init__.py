@@ -20,6 +20,7 @@ from .measure import anisotropy, period_correlation, repetition_peak
 from .tiles import (
     WangTiles,
     edge_colours,
+    photo_use,
     predict_tiles_memory,
     wang_tiles,
     wang_tiling,
@@ -29,5 +30,5 @@ from .tiles import (
 __all__ = ["Gaussianized", "gaussianize", "predict_memory", "tile_and_blend",
            "predict_blend_memory", "triangle_grid", "vertex_offsets", "period_correlation",
            "GRID_SCALE", "WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions",
-           "edge_colours", "predict_tiles_memory", "hex_tile", "hex_weights",
+           "edge_colours", "photo_use", "predict_tiles_memory", "hex_tile", "hex_weights",
            "predict_hex_memory", "rotation_symmetry", "repetition_peak", "anisotropy"]

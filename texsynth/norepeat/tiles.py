@@ -93,7 +93,7 @@ from ..blocks.rhythm import course_period, course_phase
 from .blend import vertex_offsets
 
 __all__ = ["WangTiles", "wang_tiles", "wang_tiling", "wang_tiling_positions", "edge_colours",
-           "default_tile", "predict_tiles_memory", "MAX_ATLAS", "COLOURS"]
+           "default_tile", "photo_use", "predict_tiles_memory", "MAX_ATLAS", "COLOURS"]
 
 #: Largest atlas side (pixels): 8192 keeps it a texture every GPU takes.
 MAX_ATLAS = 8192
@@ -630,6 +630,32 @@ def wang_tiles(photo, *, tile: int | None = None, colours: int = COLOURS, gutter
     atlas = a[positions[:, :, 0], positions[:, :, 1]]
     report(1.0, "Wang tiles: done")
     return WangTiles(atlas, positions, t, gutter, colours, centres_arr, (h, w))
+
+
+def photo_use(tiles: WangTiles) -> np.ndarray:
+    """The share of a Wang tiling's pixels that show each photo pixel, float64 (H, W) summing
+    to 1: every tile (gutters left out) counted once, as the hashed edge colours pick every
+    tile equally often (Wei 2004). The diamonds and interiors are windows inside the photo,
+    so its middle shows most and its outermost rows and columns least or never: what a
+    Tile Set render is to be compared with (a plain render shows every photo pixel alike).
+
+    References
+    ----------
+    Cohen et al. 2003, 3; Wei 2004 (see the module's docstring).
+
+    Examples
+    --------
+    >>> photo = np.random.default_rng(0).random((96, 96)).astype(np.float32)
+    >>> use = photo_use(wang_tiles(photo, tile=32, gutter=2))
+    >>> use.shape, round(float(use.sum()), 6), bool(use[48, 48] > use[0, 0])
+    ((96, 96), 1.0, True)
+    """
+    g, t, step = tiles.gutter, tiles.tile, tiles.step
+    inner = tiles.positions.reshape(tiles.colours ** 2, step, tiles.colours ** 2, step, 2)[
+        :, g:g + t, :, g:g + t].reshape(-1, 2)
+    count = np.bincount(np.ravel_multi_index(inner.T, tiles.photo_shape),
+                        minlength=int(np.prod(tiles.photo_shape)))
+    return (count / len(inner)).reshape(tiles.photo_shape)
 
 
 def edge_colours(x, y, colours: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
