@@ -61,13 +61,19 @@ Deviations, one line each:
 
 Not yet within the goals (gradient ratio 0.9-1.1, boundary seam ratio 0.8-1.2) on one of the
 material section's cases (seed 0, ``python -m benchmarks.heal_cases``): the gravel's cigarette
-butt, seam 1.22 with the draws; one draw read 1.46 (1.38 drawing among all candidates; the
-boundary's guidance halved 1.22 but the other butts' 0.80-0.93, zeroed 1.02 and 0.71-0.85: a
-trade, not a fix; before the guided interpolation 2.18: the copied pebbles meet the photo's
-out of place; the correction's standard deviation 0.10 shows as a grey haze), with patches
-of 10 / 24 px 1.26, 1.35 / 1.52, 1.45. Drawn among 1 (the best only) or 8 within 25%
-instead of 4 within 10%, and the SSD weighting the known pixels within 2 px of the unknown ones
-4 times: the same or worse. The gravel's sign is at the goal's edge (seam 1.20).
+butt, seam 1.22 with the draws. The photo under it is smoother along that outline than anywhere:
+its luminance jump across the mask's boundary (0.085) is below the same outline's at each of 300
+other places in the photo (median 0.127), the heal's (0.104) below 92% of them and 1.12 times
+the photo's own one pixel further out; at 5x no edge shows, only a grey smudge inside (the
+correction). Tried: the boundary's guidance scaled down to the photo's jump beside it (a no-op
+there, it is already below; the brick sign 1.07 -> 0.90); the draws among all candidates (1.34,
+the gravelly dirt butt's gradient 0.83). One draw read 1.46 (1.38 drawing among all candidates;
+the boundary's guidance halved 1.22 but the other butts' 0.80-0.93, zeroed 1.02 and 0.71-0.85: a
+trade, not a fix; before the guided interpolation 2.18: the copied pebbles meet the photo's out
+of place; the correction's standard deviation 0.10 shows as a grey haze), with patches of 10 /
+24 px 1.26, 1.35 / 1.52, 1.45. Drawn among 1 (the best only) or 8 within 25% instead of 4 within
+10%, and the SSD weighting the known pixels within 2 px of the unknown ones 4 times: the same or
+worse. The gravel's sign is at the goal's edge (seam 1.20).
 """
 
 from __future__ import annotations
