@@ -632,10 +632,11 @@ def _cost(shape, width, height, params):
     its own coefficient, 1.35 times that for windows); the table of every table level;
     the passes over the whole exemplar (centring, windows, the random start's draw); per grid
     pixel of an aligned level (``_aligned``), its alignment (``SETTLE_COST``); per level, the
-    relaxation's rounds (``ROUND_COST``); the coarse levels' boost where there are joints
-    (a joint width given). The refining levels' and the tables' coefficients from
-    the quiet runs of the photos benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and
-    18.0 s) and a 1024 photo to 4096."""
+    relaxation's rounds (``ROUND_COST``); the coarse levels' boost and the joint repair
+    (``REPAIR_PIXEL_COST``, ``REPAIR_SHARE``) where there are joints (a joint width given).
+    The refining levels' and the tables' coefficients from the quiet runs of the photos
+    benchmark (its 12 MP photo and its 1024 crop to 2048: 15.7 and 18.0 s) and a 1024 photo to
+    4096."""
     c = shape[2]
     shape = feature_distance.working_shape(shape, params["joint_width"])
     h, w, _ = shape
@@ -644,7 +645,8 @@ def _cost(shape, width, height, params):
                                            factor > 1))) + 8e-8 * h * w
 
 
-def _level_costs(shape, width, height, params, factor=1, repair=False) -> list[float]:
+def _level_costs(shape, width, height, params, factor=1,
+                 repair=False) -> list[tuple[float, float, float]]:
     """:func:`_cost`'s terms of each level, finest first, also the levels' shares of the
     progress: (relaxation, alignment, joint repair) each; ``factor`` is the coarse levels'
     boost (``COARSE_FACTOR`` where there are joints), ``repair`` whether the joints are

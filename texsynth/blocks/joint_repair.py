@@ -77,6 +77,13 @@ def holes(photo: np.ndarray, positions: np.ndarray, joints: Joints, reach: float
     end of the joints rendered from ``photo`` (its colours or luma) at ``positions`` (read on
     the torus) that lies within ``NEAR`` joint widths of a seam (:func:`seams`).
 
+    References
+    ----------
+    .. [1] A. A. Efros and T. K. Leung, "Texture synthesis by non-parametric sampling," ICCV
+       1999 (a hole filled from its rim inward).
+    .. [2] M. Ashikhmin, "Synthesizing natural textures," I3D 2001 (the neighbours'
+       continuations proposed).
+
     Examples
     --------
     >>> i, j = np.mgrid[:64, :64]
