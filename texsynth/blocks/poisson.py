@@ -44,7 +44,7 @@ MAX_SWEEPS = 12
 
 
 def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step,
-             readable: np.ndarray | None = None) -> np.ndarray:
+             readable: np.ndarray | None = None, joint: bool = False) -> np.ndarray:
     """v_pq for output pixels p and their neighbours q = p + ``step``, which show the ``source``
     pixels at positions ``p`` and ``q`` (int, (..., 2) (row, col)). Pixels of one piece (q =
     p + step in the source) get their own difference. Across a cut, each piece offers its own
@@ -54,7 +54,8 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step,
     on the cut is kept (a joint beside it), an edge of a pixel the cut left out is not (a
     ledge beyond it), and the step between the pieces' levels is no piece's gradient.
     ``readable`` (bool (H, W), optional): the source pixels whose values may be read; a
-    candidate that reads another (a blemish under a heal's mask) is not offered.
+    candidate that reads another (a blemish under a heal's mask) is not offered. ``joint``: the
+    nearer over the sum of the channels, one candidate for all (no colour mixed from two).
 
     Examples
     --------
@@ -67,6 +68,10 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step,
     >>> readable = np.ones((3, 4), bool); readable[1, 2] = False  # (1, 2) under a mask
     >>> guidance(source, p, q, (0, 1), readable)[:, 0].tolist()  # q's own gradient read it
     [1.0, 1.0, 1.0, 0.0]
+    >>> two = np.float32([[[0, 0], [1, 3], [3, 4]]])  # (0, 0) beside (0, 2): channels disagree
+    >>> at, beside = np.array([[0, 0]]), np.array([[0, 2]])
+    >>> [guidance(two, at, beside, (0, 1), joint=j).tolist() for j in (False, True)]
+    [[[2.0, 3.0]], [[1.0, 3.0]]]
     """
     h, w = source.shape[:2]
     dy, dx = step
@@ -90,6 +95,8 @@ def guidance(source: np.ndarray, p: np.ndarray, q: np.ndarray, step,
     # A candidate outside the source is never the nearer (one inside is taken; else 0).
     far_p = np.where(has_after[:, None], np.abs(v_p - shown), np.inf)
     far_q = np.where(has_before[:, None], np.abs(v_q - shown), np.inf)
+    if joint:  # one candidate for every channel: its channels never come from two pieces
+        far_p, far_q = far_p.sum(1, keepdims=True), far_q.sum(1, keepdims=True)
     chosen = np.where(far_p <= far_q, v_p, v_q)
     chosen[~(has_after | has_before)] = 0
     v[cut] = chosen
