@@ -68,7 +68,10 @@ class Progress:
     def __call__(self, fraction: float, message: str = "") -> None:
         if self._callback is None:
             return
-        f = self._start + (self._stop - self._start) * min(max(fraction, 0.0), 1.0)
+        # the end exactly: start + (stop - start) can be an ulp past stop, and the next span's
+        # first report, at stop, would then read as a step back
+        f = self._stop if fraction >= 1.0 else \
+            self._start + (self._stop - self._start) * max(fraction, 0.0)
         if self._callback(f, message) is False:
             raise Cancelled("cancelled by the caller")
 
