@@ -183,8 +183,8 @@ def _walk(planes, shape, positions, deltas, step, tick, reach, sweeps):
     root = np.bincount(label.ravel(), minlength=n).argmax()
     placed[root] = True
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    waves = int(np.nanmax(np.where(np.isinf(d := shortest_path(
-        graph, directed=False, unweighted=True, indices=root)), np.nan, d)))
+    hops = shortest_path(graph, directed=False, unweighted=True, indices=root)
+    waves = int(hops[np.isfinite(hops)].max())
     wave_share, start = _shares(waves, sweeps, n, len(deltas), len(planes), borders)
     k = 0
     extents = _extents(positions, label, n)
