@@ -30,12 +30,14 @@ from .versions import requirement, satisfies
 #: (blender_version_min): 4.2.0 to 4.2.12 install a package's highest version whatever its
 #: Python tag (bpy 4.2.0's bl_pkg/bl_extension_ops.py: "TODO: Match Python & ABI tags"),
 #: 4.2.13 first skips the wheels of another Python.
-#: exifread (the photo's focal length from its EXIF) is pure Python: one py3-none-any wheel
-#: serves every Python and platform.
+#: exifread (the photo's focal length from its EXIF) and threadpoolctl (BLAS on one thread
+#: inside the methods: ``texsynth.blocks.parallel.serial_blas``) are pure Python: one
+#: py3-none-any wheel serves every Python and platform.
 BUNDLED = {
     "scipy": {"3.11": "1.15.3", "3.13": "1.16.3"},
     "OpenEXR": {"3.11": "3.5.3", "3.13": "3.5.2"},
     "exifread": {"3.11": "3.5.1", "3.13": "3.5.1"},
+    "threadpoolctl": {"3.11": "3.6.0", "3.13": "3.6.0"},
 }
 
 _problem = None  # the message shown while TexSynth cannot work, or None

@@ -14,6 +14,7 @@ import traceback
 import bpy
 
 from .. import texsynth
+from ..texsynth.blocks.parallel import serial_blas
 from ..texsynth.progress import TimeLeft
 from . import output
 
@@ -49,7 +50,8 @@ class Task:
     def run(self) -> None:
         function, args, kwargs = self._call
         try:
-            self.result = function(*args, progress=self._progress, **kwargs)
+            with serial_blas():  # every operator's work, the core's entries or not
+                self.result = function(*args, progress=self._progress, **kwargs)
         except texsynth.Cancelled:
             self.cancelled = True
         except Exception as error:  # reported on the main thread, where bpy can be used

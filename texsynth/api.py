@@ -16,6 +16,7 @@ import numpy as np
 import scipy.fft
 
 from . import budget, validation
+from .blocks.parallel import serial_blas
 from .registry import get_method, methods
 
 __all__ = ["synthesize", "synthesize_positions", "check"]
@@ -167,6 +168,7 @@ def check(shape, width: int, height: int, *, method: str = "heeger_bergen", seed
     return width, height, seed, values
 
 
+@serial_blas()
 def _run(exemplar, width, height, method, seed, progress, params, want_positions):
     m = get_method(method)
     a = validation.image(exemplar, min_side=1)

@@ -119,6 +119,7 @@ from scipy import ndimage
 from . import budget, metrics, validation
 from .blocks import poisson, rhythm
 from .blocks.joints import luma
+from .blocks.parallel import serial_blas
 from .blocks.quilting import Search, block_means, min_error_path
 
 __all__ = ["make_tileable", "make_tileable_positions", "follow", "default_band", "predict",
@@ -623,6 +624,7 @@ def _memory(lay: _Layout, c: int) -> float:
     return float(photo + search + max(arm, correction))
 
 
+@serial_blas()
 def make_tileable(photo, *, band: int | None = None, seed: int = 0,
                   progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """``photo`` made to tile, float32 of the photo's size and channels.
@@ -690,6 +692,7 @@ def check(shape, *, band: int | None = None, seed: int = 0) -> tuple[int, int]:
     return band, seed
 
 
+@serial_blas()
 def make_tileable_positions(photo, *, band: int | None = None, seed: int = 0,
                             progress: Callable[[float, str], object] | None = None
                             ) -> tuple[np.ndarray, np.ndarray]:

@@ -41,6 +41,7 @@ import numpy as np
 
 from .. import validation
 from ..blocks.color import linear_to_srgb, luminance, srgb_to_linear
+from ..blocks.parallel import serial_blas
 from ..progress import Progress
 
 __all__ = ["delight", "light_field"]
@@ -104,6 +105,7 @@ def light_field(photo: np.ndarray, *, order: int = ORDER) -> np.ndarray:
     return light @ _basis(w, 2 * k).T.astype(np.float32)
 
 
+@serial_blas()
 def delight(photo, *, order: int = ORDER, encoded: bool = True, seed: int | None = None,
             progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """``photo`` (H, W) or (H, W, C) with its light taken out: every colour channel divided by

@@ -101,6 +101,7 @@ import scipy.sparse.linalg as sparse_linalg
 from scipy.ndimage import binary_dilation, distance_transform_edt, uniform_filter
 
 from .. import budget, validation
+from ..blocks.parallel import serial_blas
 from ..blocks.period import texel_size
 from ..blocks.poisson import guidance
 from ..blocks.quilting import Search
@@ -167,6 +168,7 @@ def _window(m: np.ndarray) -> tuple[slice, slice]:
             slice(max(0, cols[0] - reach), min(w, cols[-1] + 1 + reach)))
 
 
+@serial_blas()
 def heal(photo, mask, *, seed: int = 0, patch: int | None = None,
          progress: Callable[[float, str], object] | None = None) -> np.ndarray:
     """``photo`` (H, W) or (H, W, C) with the region ``mask`` (H, W) marks (True / 1)

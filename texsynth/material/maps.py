@@ -46,6 +46,7 @@ from scipy.ndimage import gaussian_filter
 
 from .. import validation
 from ..blocks.color import luminance
+from ..blocks.parallel import serial_blas
 from ..blocks.period import texel_size
 from ..blocks.periodic import periodic_component
 
@@ -207,6 +208,7 @@ def _ao(z: np.ndarray, reach: float, wrap: bool) -> np.ndarray:
     return 1.0 - occlusion / DIRECTIONS
 
 
+@serial_blas()
 def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA,
                 strength: float = STRENGTH, low: float | None = None) -> Maps:
     """Height, normal (OpenGL), roughness and AO of a de-lit ``colour`` (H, W) or (H, W, C).

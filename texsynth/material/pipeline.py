@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import api, budget, tileable, validation
+from ..blocks.parallel import serial_blas
 from ..io import encode, write_images
 from ..plane import estimate_plane, from_rectangle, rectify, verdict
 from ..plane.rectify import RECTIFY_SECONDS_PER_SAMPLE
@@ -225,6 +226,7 @@ def _rectify(photo, corners, focal_px, report) -> tuple[np.ndarray, str]:
                      f"{told}; cropped to {frontal.shape[1]} x {frontal.shape[0]}")
 
 
+@serial_blas()
 def photo_to_material(photo, *, size=None, mask=None, corners=None,
                       focal_px: float | None = None, steps: Sequence[str] = STEPS,
                       method: str | None = None, seed: int = 0, linear: bool = False,

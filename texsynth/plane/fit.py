@@ -68,6 +68,7 @@ import scipy.ndimage as ndi
 import scipy.optimize as opt
 
 from .. import validation
+from ..blocks.parallel import serial_blas
 from .combine import combine, st_covariance
 from .geometry import angles_from_gradient, gradient, normal_from_angles
 from .jackknife import line_inflation
@@ -448,6 +449,7 @@ def check_focal(focal_px) -> float | None:
     return focal_px
 
 
+@serial_blas()
 def estimate_plane(image, focal_px: float | None = None, method: str = "auto") -> PlaneEstimate:
     """Slant and tilt of the textured plane filling ``image`` (Forsyth & Ponce, sec. 11.4.1).
 

@@ -35,6 +35,7 @@ import numpy as np
 from .. import budget, validation
 from ..algorithms import multiscale_mrf
 from ..api import synthesize_positions
+from ..blocks.parallel import serial_blas
 from ..blocks.search import disk_offsets
 from ..positions import apply_positions
 from .guided import C_SUPPORT, guided_mrf
@@ -70,6 +71,7 @@ def validate_stack(stack, support: int) -> list[np.ndarray]:
     return out
 
 
+@serial_blas()
 def synthesize_stack(
     stack,
     width: int,

@@ -66,6 +66,7 @@ from scipy import ndimage, special
 
 from ... import budget, validation
 from ...blocks.color import ColorPCA
+from ...blocks.parallel import serial_blas
 from ...progress import Progress
 from ...registry import Param, resolve
 from .cliques import (
@@ -544,6 +545,7 @@ def principal_components(pca: ColorPCA, sample: np.ndarray, progress: Progress) 
     return out
 
 
+@serial_blas()
 def fit(exemplar, *, max_offset: int = MAX_OFFSET, threshold: float = THRESHOLD,
         max_cliques: int = MAX_CLIQUES, levels: int = LEVELS,
         selection_size: int = SELECTION_SIZE, selection_sweeps: int = SELECTION_SWEEPS,
