@@ -570,7 +570,8 @@ def predict(shape, band: int | None = None) -> tuple[float, float]:
     h, w = shape[:2]
     c = shape[2] if len(shape) == 3 else 1
     lay = _Layout(h, w, default_band((h, w)) if band is None else band)
-    return _cost(lay, c) * budget.machine_factor(), _memory(lay, c)
+    peak = _memory(lay, c)
+    return budget.seconds(_cost(lay, c), peak), peak
 
 
 def _work(lay: _Layout) -> tuple[float, float]:

@@ -214,12 +214,15 @@ def _cost(shape, width, height, params):
     32 x 32, 16384 x 16 from 32 x 32, at 0.78-1.2 of each; the batch term 2.6e-3 (1e-3 had told
     the strip 0.51 of its quiet 31.7 s, the squares 0.67-0.82). Every term then scaled by 0.6
     (issue 45: the three rows read 0.56, 0.90, 0.59 and 0.61, 0.48, 0.67 of the predictions
-    table's median seconds over cost, on two hosts)."""
+    table's median seconds over cost, on two hosts). Refitted with BLAS on one thread (issue
+    45: ``blocks.parallel.serial_blas``; a batch's small product had woken OpenBLAS's threads):
+    solved on the same three shapes' quiet seconds on a 2026-12 host (0.23, 7.11, 0.70 s at
+    speed 0.17), units 2.0e-10 -> 1.3e-10, pixel 4.8e-5 -> 9.3e-5, batch 1.6e-3 -> 5.8e-4."""
     h, w, c = shape
     k = params["window"]
     windows = h * w if params["exemplar_tiles"] else max(1, h - k + 1) * max(1, w - k + 1)
     units = width * height * windows * min(k, 7) ** 2 * (c + 1)
-    return 0.05 + 2.0e-10 * units + 4.8e-5 * width * height + 1.6e-3 * _batches(
+    return 0.05 + 1.3e-10 * units + 9.3e-5 * width * height + 5.8e-4 * _batches(
         windows, width, height)
 
 

@@ -440,7 +440,11 @@ def _cost(shape, width, height, params):
     work on its sample) and, in colour, the colour transport's steps (a constant each, as in
     Heeger-Bergen's model). Set against heeger_bergen's model in the same runs, under load (11
     to 15 on 2 cores): at 256^2 RGB it predicts 4.2x heeger_bergen's time, measured 3.5x and
-    7.3x; 1024^2 -> 256^2 predicted within 1.5x of one measurement."""
+    7.3x; 1024^2 -> 256^2 predicted within 1.5x of one measurement. A fixed 0.01 (K + 2)
+    reference seconds per iteration and channel added (issue 45: the bands' small
+    eigen-decompositions and numpy calls, whatever the size; 256^2, 2048 x 64 and 512^2 had
+    read 0.55, 0.72 and 0.86 of their quiet times on a 2026-12 host; half the gap, as the
+    previous host's table had read 1.21-1.36 without it)."""
     return 0.05 + sum(_phases(shape, width, height, params["orientations"],
                               params["iterations"]))
 
@@ -451,7 +455,7 @@ def _phases(shape, width, height, k, iterations) -> tuple[float, float, float]:
     had told 10 % at a hundredth of the time at 256^2 -> 512^2)."""
     c = shape[2]
     side = min(shape[0], MAX_SIDE) * min(shape[1], MAX_SIDE)
-    return (5e-7 * side * c * (k + 2), iterations * c * 4e-7 * width * height * (k + 2),
+    return (5e-7 * side * c * (k + 2), iterations * c * (4e-7 * width * height + 0.01) * (k + 2),
             0.038 * SLICES if c > 1 else 0.0)
 
 
