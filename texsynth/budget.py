@@ -12,7 +12,9 @@ their time in, on one thread and without BLAS so that the reading does not depen
 before in the process). A prediction is for the machine as it is, so the speed is
 multiplied by the load other programs put on it (:func:`contention`: the tasks wanting a core
 per core, read from the kernel, at least 1): ``cost * machine_factor()``, ``machine_factor() =
-speed() * contention()``. Why not the calibration runs' wall-clock median instead of a
+speed() * contention()``, plus the run's peak bytes at this machine's price of a fresh page
+(:func:`seconds`, :func:`page_seconds`: the kernel's and a hypervisor's work, which the core's
+speed does not tell). Why not the calibration runs' wall-clock median instead of a
 load figure: on 2 cores at load 7-10 the fastest wall-clock run still read about the quiet
 machine's speed (0.33-0.46) while the methods took 1.3-12x their quiet time, and the median
 read 0.34-3.6 in the same processes, following neither.
