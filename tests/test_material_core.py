@@ -84,13 +84,14 @@ def _boundary_jump(image, mask):
 
 
 def test_heal_leaves_the_cuts_misfit_off_the_boundary():
-    # The boundary's pairs weigh twice the others: the boundary's jump is the pieces' gradient,
-    # not that plus the misfit of the cuts' steps (unweighted: 1.45 and 1.43 the photo's jump).
+    # The boundary's pairs weigh 1.5 times the others: the boundary's jump nearer the pieces'
+    # gradient, less the misfit of the cuts' steps (over seeds 0-3, the photo's jump 1.31 times;
+    # unweighted 1.38).
     photo, mask = _pebbles()
     blemished = np.where(mask[:, :, None], np.float32(0.9), photo)
     ratios = [_boundary_jump(heal(blemished, mask, seed=s), mask) / _boundary_jump(photo, mask)
-              for s in (0, 1)]
-    assert np.mean(ratios) < 1.4
+              for s in (0, 1, 2, 3)]
+    assert np.mean(ratios) < 1.34
 
 
 def test_heal_keeps_the_pieces_level_where_their_steps_are_one_signed():
