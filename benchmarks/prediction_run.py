@@ -56,7 +56,7 @@ def main(case: dict) -> dict:
     wall = time.perf_counter() - start
     return {**case, "predicted_s": seconds, "measured_s": wall, "predicted_bytes": peak,
             "resident_bytes": max(status_kib("VmHWM") - base, 0) * 1024,
-            "factor": budget.machine_factor(), "speed": budget.speed(), "page": budget.page_seconds()}
+            "factor": budget.machine_factor(), "speed": budget.speed()}
 
 
 if __name__ == "__main__":
