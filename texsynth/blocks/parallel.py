@@ -139,4 +139,3 @@ class serial_blas(ContextDecorator):
                 cls._limiter.restore_original_limits()
                 cls._limiter = None
         return False
-
