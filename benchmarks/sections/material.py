@@ -371,7 +371,8 @@ def maps_part(ctx) -> str:
             game.append(ours <= base[0] + 1.0)
         rows.append(f"| {name} | {role} | {colour.shape[1]} | {fmt(flat, 1)} | {fmt(base[0], 1)} "
                     f"(x{fmt(base[1], 1)}, blur {base[2]:g}) | **{fmt(ours, 1)}** | "
-                    f"{fmt(metrics.seam_ratio(maps.normal), 2)} |")
+                    f"{fmt(metrics.seam_ratio(maps.normal), 2)} | "
+                    f"{fmt(metrics.seam_ratio(truth), 2)} | {fmt(metrics.seam_ratio(colour), 2)} |")
         if name in ("cobbles", "ridges", "bricks", "rock"):
             side = min(colour.shape[0], 256)
             shown.append([tile_preview(colour[:side, :side]), tile_preview(
@@ -393,11 +394,15 @@ def maps_part(ctx) -> str:
         "normal, degrees; the baseline is the plain luminance-gradient normal map with its "
         "strength and blur at their best on the truth itself (a grid of 28 x 6); "
         "`derive_maps` has fixed parameters (tuned on the game sets and the renders marked "
-        "tune; the held-out renders were not looked at while tuning). Seam ratio: the normal "
-        "map's (x component's luminance) across the wrap.",
+        "tune; the held-out renders were not looked at while tuning). Seam ratio: the derived "
+        "normal map's (its luminance) across the wrap, beside the truth normal's and the "
+        "colour's own: a set whose colour does not tile (the game sets' edges, a render whose "
+        "wrap falls on a joint) gives a normal map that follows it, since the maps tile as "
+        "the colour does.",
         "",
-        "| set | kind | side | flat map | tuned baseline | derive_maps | seam ratio |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| set | kind | side | flat map | tuned baseline | derive_maps | seam ratio | "
+        "truth's seam ratio | colour's seam ratio |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
         *rows,
         "",
         f"derive_maps within the tuned baseline + 1 deg on {sum(game)} of {len(game)} game sets; "
