@@ -136,12 +136,14 @@ def relax(level, source, halves, visits, rng, progress, index) -> None:
     confidence = halves * scale
     count = np.bincount(halves.ravel(), minlength=full + 1)  # pixels at each confidence
     least = int(np.flatnonzero(count)[0])
+    label = f"level {index}: visiting"
+    down, across = (spacing * np.arange(max(1, g // spacing)) for g in (gh, gw))
     while remaining:
-        tick = functools.partial(progress, 1.0 - remaining / total, f"level {index}: visiting")
+        tick = functools.partial(progress, 1.0 - remaining / total, label)
         tick()
         # A lattice of pixels `spacing` apart, also across the wrap, at a random offset.
-        ry = (rng.integers(gh) + spacing * np.arange(max(1, gh // spacing))) % gh
-        rx = (rng.integers(gw) + spacing * np.arange(max(1, gw // spacing))) % gw
+        ry = (rng.integers(gh) + down) % gh
+        rx = (rng.integers(gw) + across) % gw
         lattice_need = full - halves[ry[:, None], rx]
         take = rng.random(lattice_need.shape) * (full - least) < lattice_need
         iy, ix = np.nonzero(take)
