@@ -125,17 +125,42 @@ def _otsu(values: np.ndarray, bins: int = 256) -> float:
     return float(centre[int(np.nanargmax(np.where(w1 > 0, between, np.nan)))])
 
 
-def _neighbours(a: np.ndarray) -> list[np.ndarray]:
-    """P2..P9 of Zhang & Suen 1984 (N, NE, E, SE, S, SW, W, NW) of every pixel, on the torus."""
-    p = np.pad(a, 1, mode="wrap")
+#: P2..P9 of Zhang & Suen 1984 (N, NE, E, SE, S, SW, W, NW): their (row, col) in a pixel's
+#: 3 x 3 neighbourhood, bit k of a pixel's neighbourhood code (:func:`_code`) telling P(k + 2).
+_AROUND = ((0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0))
+
+
+def _code(a: np.ndarray) -> np.ndarray:
+    """Every pixel's 8 neighbours (bool ``a``, on the torus) as the bits of one uint8."""
+    p = np.pad(a.view(np.uint8), 1, mode="wrap")
     h, w = a.shape
-    at = ((0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0))
-    return [p[i:i + h, j:j + w] for i, j in at]
+    code = p[0:h, 1:w + 1].copy()
+    for k, (i, j) in enumerate(_AROUND[1:], 1):
+        code |= p[i:i + h, j:j + w] << k
+    return code
+
+
+def _removal_tables() -> tuple[np.ndarray, np.ndarray]:
+    """Zhang & Suen 1984's rule for each sub-iteration, over the 256 neighbourhood codes: the
+    pixel goes when 2 <= B(P1) <= 6, A(P1) = 1 (one 0 -> 1 transition round P2..P9, P2) and
+    not P2 P4 P6 nor P4 P6 P8 (the first; the second: not P2 P4 P8 nor P2 P6 P8)."""
+    p = (np.arange(256)[None, :] >> np.arange(8)[:, None]) & 1 == 1
+    b = p.sum(axis=0)
+    transitions = (~p & np.roll(p, -1, axis=0)).sum(axis=0)
+    n, e, s, w = p[0], p[2], p[4], p[6]
+    base = (b >= 2) & (b <= 6) & (transitions == 1)
+    return base & ~((n & e & s) | (e & s & w)), base & ~((n & e & w) | (n & s & w))
+
+
+_REMOVAL = _removal_tables()
+#: A neighbourhood code's count of neighbours.
+_DEGREE = np.array([bin(code).count("1") for code in range(256)], np.uint8)
 
 
 def thin(mask: np.ndarray) -> np.ndarray:
     """Zhang & Suen 1984's thinning of a bool mask on the torus, each sub-iteration on every
-    pixel at once: a one-pixel-wide skeleton.
+    pixel at once: a one-pixel-wide skeleton (the rule read from a table of the 256
+    neighbourhoods, :func:`_removal_tables`).
 
     Examples
     --------
@@ -146,17 +171,8 @@ def thin(mask: np.ndarray) -> np.ndarray:
     a = np.asarray(mask, bool).copy()
     while True:
         changed = False
-        for step in (0, 1):
-            p = _neighbours(a)
-            b = np.sum(p, axis=0, dtype=np.uint8)
-            transitions = np.sum([~p[k] & p[(k + 1) % 8] for k in range(8)], axis=0,
-                                 dtype=np.uint8)
-            n, e, s, w = p[0], p[2], p[4], p[6]
-            if step == 0:
-                keep = (n & e & s) | (e & s & w)
-            else:
-                keep = (n & e & w) | (n & s & w)
-            gone = a & (b >= 2) & (b <= 6) & (transitions == 1) & ~keep
+        for removal in _REMOVAL:
+            gone = a & removal[_code(a)]
             if gone.any():
                 a &= ~gone
                 changed = True
@@ -165,7 +181,7 @@ def thin(mask: np.ndarray) -> np.ndarray:
 
 
 def _degree(skeleton: np.ndarray) -> np.ndarray:
-    return np.sum(_neighbours(skeleton), axis=0, dtype=np.uint8)
+    return _DEGREE[_code(skeleton)]
 
 
 def ends(skeleton: np.ndarray) -> np.ndarray:

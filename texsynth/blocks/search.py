@@ -402,16 +402,18 @@ def best_candidate(table, cand: np.ndarray, z: np.ndarray, current: np.ndarray,
     """
     b = len(cand)
     cand.sort(axis=1)
-    cand[:, 1:][cand[:, 1:] == cand[:, :-1]] = none
-    cand[cand == current[:, None]] = none
-    kept = cand < none
-    pixel, slot = np.nonzero(kept)
+    kept = np.empty(cand.shape, bool)  # a candidate's first copy, not the current, not none
+    kept[:, 0] = True
+    np.not_equal(cand[:, 1:], cand[:, :-1], out=kept[:, 1:])
+    kept &= cand != current[:, None]
+    kept &= cand < none
+    pixel = np.nonzero(kept)[0]
     rows = Rows(z)
     d = np.einsum("pk,pk->p", _gather(table, cand[kept], scratch, "candidates"),
                   _gather(rows, pixel, scratch, "queries"))
     now = np.einsum("pk,pk->p", _gather(table, current, scratch, "candidates"), z)
     scored = np.full(cand.shape, np.inf, np.float32)
-    scored[pixel, slot] = d
+    scored[kept] = d
     pick = scored.argmin(axis=1)
     every = np.arange(b)
     return np.where(scored[every, pick] < now, cand[every, pick], current)
