@@ -396,9 +396,9 @@ def maps_part(ctx) -> str:
         "`derive_maps` has fixed parameters (tuned on the game sets and the renders marked "
         "tune; the held-out renders were not looked at while tuning). Seam ratio: the derived "
         "normal map's (its luminance) across the wrap, beside the truth normal's and the "
-        "colour's own: a set whose colour does not tile (the game sets' edges, a render whose "
-        "wrap falls on a joint) gives a normal map that follows it, since the maps tile as "
-        "the colour does.",
+        "colour's own: the plain ratio reads a joint on the wrap line as a seam (the bricks "
+        "renders tile, yet their truth reads high) and the game sets' own edges as theirs, so "
+        "the derived map's figure is read against the truth's, not against 1.",
         "",
         "| set | kind | side | flat map | tuned baseline | derive_maps | seam ratio | "
         "truth's seam ratio | colour's seam ratio |",
