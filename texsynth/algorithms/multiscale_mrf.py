@@ -147,6 +147,19 @@ became fewer: pavers 1.16, 1.16, 1.30 (1.16, 1.16, 1.28), the wall 1.38, 1.35, 1
 1.25). Six levels: pavers 1.22, 1.70, 1.51, the wall 1.38, 1.36, 1.43. The flagstones' photo
 has 6 dead ends (the pavers' 20): an output twice its size about 24 (80), a seed's ratio within
 about 20 % (11 %) of its rate.
+Neighbourhoods running off the exemplar scored on their inside part only, normalised by its
+weight (Wei & Levoy 2000, 3.2's partial neighbourhoods; Efros & Leung 1999's masked SSD: a
+table row's outside neighbours X = 0, Q = 0, a per-row inside mask M, distance
+(Y_p . Z + M_p . w|O|^2) / M_p . w, infinite below a least inside share), where there are
+joints: the wall is mended, the pavers and flagstones lose as with the mirror (the photo's rim
+cuts their elements, and a copy of it seams them mid-stone). Share 0.5 on every level: pavers
+1.38, 1.35, 1.55, the wall 1.03, 1.18, 0.91, flagstones 2.02, 2.20, 1.67; on the coarsest three:
+1.56, 1.49, 1.53 / 0.83, 0.88, 0.84 (bricks run together) / 1.68, 2.07, 1.10; share 0.9, every
+level: 1.25, 1.24, 1.48 / 1.18, 1.27, 1.33 / 1.53, 1.10, 1.46; share 0.75, every level: 1.31,
+1.29, 1.06 / 1.01, 1.01, 1.02 / 1.42, 1.24, 1.46, brick wall 1.14, 0.99, 0.95, ashlar 1.06,
+1.06, 1.27, setts 1.03, 1.02, 0.89 (CPU 1.16x on the flagstones); share 0.75 on the coarsest
+two (one): pavers 1.11, 1.37, 1.05 (1.27, 1.41, 1.60), flagstones 0.88, 1.52, 1.47 (1.25, 1.18,
+1.25).
 
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
