@@ -67,6 +67,7 @@ def test_a_manifest_names_photos_maps_methods_sizes_and_seeds(tmp_path):
     ("photo0.png,,,,100000,,", UsageError, "list.csv:2.*100000"),
     ("photo0.png,photo1.png,,,,,", InputError, "list.csv:2.*photo1.png: 72 x 64"),
     ("nothere.png,,,,,,", InputError, "list.csv:2: .*nothere.png: no such file"),
+    ("photo0.png,,,,,,,7", UsageError, "list.csv:2: 8 cells, the header has 7"),
 ])
 def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, error, named):
     photos = _photos(tmp_path / "in", 2)
