@@ -7,8 +7,10 @@ requirements-dev.txt).
 import dataclasses
 import os
 import signal
+import struct
 import threading
 import time
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +20,7 @@ import texsynth
 from texsynth import batch, cli
 from texsynth.io import read_png, write_png
 from texsynth.io.files import TEMP_PREFIX
-from texsynth.jobs import InputError, UsageError
+from texsynth.jobs import InputError, RefusedError, UsageError, preflight
 from texsynth.metrics import seam_ratio
 
 from _images import ramp_photo
@@ -67,12 +69,32 @@ def test_a_manifest_names_photos_maps_methods_sizes_and_seeds(tmp_path):
     ("photo0.png,,,,100000,,", UsageError, "list.csv:2.*100000"),
     ("photo0.png,photo1.png,,,,,", InputError, "list.csv:2.*photo1.png: 72 x 64"),
     ("nothere.png,,,,,,", InputError, "list.csv:2: .*nothere.png: no such file"),
+    ("photo0.png,,,,,,,7", UsageError, "list.csv:2: 8 cells, the header has 7"),
 ])
 def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, error, named):
     photos = _photos(tmp_path / "in", 2)
     (photos / "list.csv").write_text("photo,maps,operation,method,size,seed,params\n" + row)
     with pytest.raises(error, match=named):
         batch.plan(photos / "list.csv", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def _png_header(path, width, height):
+    """A PNG whose header says width x height (RGB, 8 bits) over 64 bytes of pixels."""
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data)))
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+                     + chunk(b"IDAT", zlib.compress(bytes(64))) + chunk(b"IEND", b""))
+
+
+def test_a_photo_too_large_to_read_is_refused_before_any_work(tmp_path):
+    photos = _photos(tmp_path / "in", 1)
+    _png_header(photos / "huge.png", 100000, 100000)  # the header of 112 GiB as float32
+    with pytest.raises(RefusedError, match="huge.png: reading the 100000 x 100000 photo"):
+        preflight(batch.plan(photos, tmp_path / "out",
+                             batch.Defaults(size=(SIZE, SIZE), method="random_phase")))
     assert not (tmp_path / "out").exists()
 
 

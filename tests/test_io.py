@@ -100,6 +100,14 @@ def test_exr_round_trip_is_bit_exact(tmp_path, channels):
     np.testing.assert_array_equal(b, a)
 
 
+def test_a_cut_short_exr_is_one_error_and_no_library_lines(tmp_path, capfd):
+    io.write_exr(tmp_path / "a.exr", _image(32, 48, 3))
+    (tmp_path / "a.exr").write_bytes((tmp_path / "a.exr").read_bytes()[:400])
+    with pytest.raises(ValueError, match="a.exr: not a readable OpenEXR file"):
+        io.read_exr(tmp_path / "a.exr")
+    assert capfd.readouterr().err == ""  # OpenEXR's C library said it three times on fd 2
+
+
 def test_read_photo_tells_formats_by_content(tmp_path):
     a = _image(4, 6, 3)
     io.write_exr(tmp_path / "x.png", a)  # misleading extension

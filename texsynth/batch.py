@@ -199,6 +199,10 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
                          "e.g. radius=4;visits=3)")
     rows = []
     for number, row in enumerate(reader, start=2):
+        if None in row:  # DictReader's key for cells past the header's: a comma in a path?
+            raise UsageError(f"{path}:{number}: {len(reader.fieldnames) + len(row[None])} cells, "
+                             f"the header has {len(reader.fieldnames)}; quote a cell holding "
+                             "a comma")
         row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
         if not row.get("photo"):
             continue

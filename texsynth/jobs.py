@@ -326,6 +326,11 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
 
     for job in jobs:
         photo = shape(job, job.photo)
+        try:  # the photo read as float32, before any method's model (a header may say 10^10)
+            validation.check_memory(4.0 * np.prod(photo), f"{_named(job)}: reading the "
+                                    f"{photo[1]} x {photo[0]} photo", "give a smaller photo")
+        except validation.BudgetError as error:
+            raise RefusedError(str(error)) from None
         for path in job.maps:
             if shape(job, path)[:2] != photo[:2]:
                 raise InputError(f"{job.origin + ': ' if job.origin else ''}{path}: "

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+
 import numpy as np
 
 from ..validation import image
@@ -35,7 +39,7 @@ def read_exr(path) -> np.ndarray:
     import OpenEXR
 
     try:
-        with OpenEXR.File(str(path), separate_channels=True) as f:
+        with _library_quiet(), OpenEXR.File(str(path), separate_channels=True) as f:
             channels = {name: c.pixels for name, c in f.channels().items()}
     except (RuntimeError, ValueError, OSError) as error:
         raise ValueError(f"{path}: not a readable OpenEXR file ({error})") from None
@@ -51,13 +55,33 @@ def exr_size(path) -> tuple[int, int, int]:
     import OpenEXR
 
     try:
-        with OpenEXR.File(str(path), header_only=True) as f:  # the header lives with f
+        with _library_quiet(), OpenEXR.File(str(path), header_only=True) as f:  # f holds header
             low, high = (np.asarray(v) for v in f.header()["dataWindow"])
             names = [c.name for c in f.header()["channels"]]
     except (RuntimeError, ValueError, OSError, KeyError) as error:
         raise ValueError(f"{path}: not a readable OpenEXR file ({error})") from None
     layout = _layout(path, names)
     return int(high[0] - low[0] + 1), int(high[1] - low[1] + 1), {"Y": 1, "RGB": 3}.get(layout, 4)
+
+
+@contextlib.contextmanager
+def _library_quiet():
+    """The library's own lines on a damaged file ("Invalid chunk size ..." three times on
+    stderr, "Warning: Exception raised reading pixel data" on stdout) silenced: the error raised
+    names the file and says it once. Process-wide while it lasts (file descriptors 1 and 2),
+    so held only around the library's read."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    with contextlib.ExitStack() as restore, open(os.devnull, "wb") as null:
+        for fd in (1, 2):
+            try:
+                saved = os.dup(fd)
+            except OSError:  # no such stream to silence
+                continue
+            os.dup2(null.fileno(), fd)
+            restore.callback(os.close, saved)
+            restore.callback(os.dup2, saved, fd)
+        yield
 
 
 def _layout(path, channels) -> str:
