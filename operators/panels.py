@@ -83,7 +83,7 @@ def _tileable_prediction(shape, band):
     """``texsynth.tileable.predict`` on the idle machine, kept per (photo size, band): the panel
     redraws often; the load is applied at each draw (:func:`_draw_tileable_prediction`)."""
     seconds, need = texsynth.tileable.predict(shape, band)
-    return seconds / texsynth.budget.machine_factor(), need
+    return seconds / texsynth.budget.contention(), need
 
 
 def _draw_tileable_prediction(layout, settings, found) -> None:
@@ -94,7 +94,7 @@ def _draw_tileable_prediction(layout, settings, found) -> None:
         return
     try:
         seconds, need = _tileable_prediction(shape, settings.band or None)
-        seconds *= texsynth.budget.machine_factor()
+        seconds *= texsynth.budget.contention()
     except ValueError as error:
         layout.label(text=str(error), icon="ERROR")
         return
@@ -166,7 +166,7 @@ def _material_prediction(shape):
     """``texsynth.material.pipeline.predict`` at the operator's default size on the idle
     machine, kept per photo size (the load is applied at each draw)."""
     seconds, need = texsynth.material.pipeline.predict(shape, size=(1024, 1024))
-    return seconds / texsynth.budget.machine_factor(), need
+    return seconds / texsynth.budget.contention(), need
 
 
 class TEXSYNTH_PT_photo_material(SidebarPanel, bpy.types.Panel):
@@ -182,7 +182,7 @@ class TEXSYNTH_PT_photo_material(SidebarPanel, bpy.types.Panel):
         shape = _source_shape(found)
         if shape is not None:
             seconds, need = _material_prediction(shape)
-            _draw_cost(layout, seconds * texsynth.budget.machine_factor(), need)
+            _draw_cost(layout, seconds * texsynth.budget.contention(), need)
         layout.operator("texsynth.photo_to_material", icon="MATERIAL")
 
 
