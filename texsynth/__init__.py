@@ -13,6 +13,7 @@ Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 
 from __future__ import annotations
 
+import os
 import sys
 
 # ruff: noqa: I001  (algorithms first: importing it registers every method, in panel order)
@@ -36,8 +37,11 @@ except (KeyboardInterrupt, ImportError) as error:  # Ctrl+C while ``python -m te
         cause = cause.__cause__ or cause.__context__
     if cause is None or sys.argv[:1] != ["-m"]:  # "-m" while Python locates the module
         raise
-    print("texsynth: interrupted; nothing was written", file=sys.stderr)
-    raise SystemExit(130) from None
+    print("texsynth: interrupted; nothing was written", file=sys.stderr, flush=True)
+    # os._exit, not SystemExit: a Ctrl+C that passed through an eval() of a string (namedtuple's,
+    # in scipy's imports) leaves CPython 3.11 marked to end by SIGINT whatever is raised after
+    # (exit -2 in 1 of ~20 tries under load); nothing is open to flush but stderr
+    os._exit(130)
 
 __all__ = [
     "synthesize",
