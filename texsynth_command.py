@@ -2,18 +2,18 @@
 
 Importing :mod:`texsynth` loads numpy and scipy for about a second; a Ctrl+C in that second
 would end in Python's traceback. Here it ends as a Ctrl+C later does (:mod:`texsynth.cli`): one
-line and exit status 130.
+line and exit status 130 (:mod:`texsynth.interrupts`: the package watches its own imports when this
+module is loaded, and this one the command's).
 """
 
 import sys
 
 
 def main() -> int:
-    try:
+    from texsynth import interrupts  # the package's imports watch themselves (starting_command)
+
+    with interrupts.while_starting():
         from texsynth.cli import main as run
-    except KeyboardInterrupt:
-        print("texsynth: interrupted; nothing was written", file=sys.stderr)
-        return 130
     return run()
 
 

@@ -169,7 +169,7 @@ def test_no_private_names_across_modules():
 #: The layers docs/ARCHITECTURE.md draws, lowest first: a unit (a top-level module, a package,
 #: or one method's home under algorithms/) imports only units of lower layers.
 LAYERS = (
-    ("registry", "progress", "validation", "positions"),
+    ("registry", "progress", "validation", "positions", "interrupts"),
     ("blocks",),
     ("io", "budget", "metrics"),
     ("api", "algorithms.heeger_bergen", "algorithms.portilla_simoncelli",

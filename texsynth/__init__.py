@@ -13,11 +13,10 @@ Every method returns a periodic image: tiled 2 x 2 it shows no seam.
 
 from __future__ import annotations
 
-import os
-import sys
+from . import interrupts
 
 # ruff: noqa: I001  (algorithms first: importing it registers every method, in panel order)
-try:
+with interrupts.while_starting(active=interrupts.starting_command()):  # the command's start
     from . import algorithms, budget, validation
     from .algorithms import composite, cooccurrence
     from .algorithms.composite import segmentation
@@ -30,18 +29,6 @@ try:
     from .stack import synthesize_stack
     from .tileable import make_tileable, make_tileable_positions
     from .validation import MAX_SIDE, memory_budget
-except (KeyboardInterrupt, ImportError) as error:  # Ctrl+C while ``python -m texsynth``
-    # loads numpy and scipy (numpy reports one in its own imports as an ImportError)
-    cause = error
-    while cause is not None and not isinstance(cause, KeyboardInterrupt):
-        cause = cause.__cause__ or cause.__context__
-    if cause is None or sys.argv[:1] != ["-m"]:  # "-m" while Python locates the module
-        raise
-    print("texsynth: interrupted; nothing was written", file=sys.stderr, flush=True)
-    # os._exit, not SystemExit: a Ctrl+C that passed through an eval() of a string (namedtuple's,
-    # in scipy's imports) leaves CPython 3.11 marked to end by SIGINT whatever is raised after
-    # (exit -2 in 1 of ~20 tries under load); nothing is open to flush but stderr
-    os._exit(130)
 
 __all__ = [
     "synthesize",

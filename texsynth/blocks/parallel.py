@@ -15,7 +15,9 @@ from concurrent.futures import ThreadPoolExecutor
 from contextlib import ContextDecorator
 
 import numpy as np
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
+
+from .. import interrupts
 
 __all__ = ["CORES", "WORKERS", "run", "ranges", "threads", "small_product", "serial_blas"]
 
@@ -108,6 +110,9 @@ class serial_blas(ContextDecorator):
     process's (OpenBLAS keeps one setting), set by the first of overlapping entries in any
     thread and restored when the last leaves (threadpoolctl: it finds the loaded BLAS, whichever
     numpy brings it, where a hand-written ``openblas_set_num_threads`` would know one build).
+    The libraries are found once a process (6 ms; numpy's and scipy's are loaded by then), a
+    Ctrl+C held until the walk ends (``texsynth.interrupts.deferred``: threadpoolctl walks them
+    in a ctypes callback, which drops exceptions).
 
     Examples
     --------
@@ -122,12 +127,16 @@ class serial_blas(ContextDecorator):
     _lock = threading.Lock()
     _users = 0
     _limiter = None
+    _controller = None
 
     def __enter__(self):
         cls = type(self)
         with cls._lock:
+            if cls._controller is None:
+                with interrupts.deferred():
+                    cls._controller = ThreadpoolController()
             if cls._users == 0:
-                cls._limiter = threadpool_limits(limits=1, user_api="blas")
+                cls._limiter = cls._controller.limit(limits=1, user_api="blas")
             cls._users += 1
         return self
 
