@@ -440,11 +440,17 @@ def _cost(shape, width, height, params):
     work on its sample) and, in colour, the colour transport's steps (a constant each, as in
     Heeger-Bergen's model). Set against heeger_bergen's model in the same runs, under load (11
     to 15 on 2 cores): at 256^2 RGB it predicts 4.2x heeger_bergen's time, measured 3.5x and
-    7.3x; 1024^2 -> 256^2 predicted within 1.5x of one measurement. A fixed 0.01 (K + 2)
-    reference seconds per iteration and channel added (issue 45: the bands' small
-    eigen-decompositions and numpy calls, whatever the size; 256^2, 2048 x 64 and 512^2 had
-    read 0.55, 0.72 and 0.86 of their quiet times on a 2026-12 host; half the gap, as the
-    previous host's table had read 1.21-1.36 without it)."""
+    7.3x; 1024^2 -> 256^2 predicted within 1.5x of one measurement. A fixed 0.024 (K + 2)
+    reference seconds per iteration and channel beside the pixels' 4e-7 (issue 45): the
+    bands' small solves (21 least-squares, 7 covariance adjustments with 10 SVDs an
+    iteration and channel) and numpy's per-call overhead, whatever the size; on one core a
+    64^2 .. 512^2 output's iteration took 2.1 ms + 66 ns a pixel per (K + 2) (CPU time), the
+    fixed part 33 000 pixels' worth, and on two cores the FFTs (the pixels' part) split
+    across both while it does not. Fit: the quiet 2026-12 predictions table's 256^2, 2048 x
+    64 and 512^2 rows (6.78, 9.74, 16.59 s) at the other methods' median measured / cost
+    (0.283) read 0.0244 + 3.93e-7 a pixel (this model all three within 4 %), where 0.01 had
+    read 0.77, 0.86 and 0.66 (the last at a calibration of 0.21, the others' 0.28-0.29).
+    """
     return 0.05 + sum(_phases(shape, width, height, params["orientations"],
                               params["iterations"]))
 
@@ -455,7 +461,7 @@ def _phases(shape, width, height, k, iterations) -> tuple[float, float, float]:
     had told 10 % at a hundredth of the time at 256^2 -> 512^2)."""
     c = shape[2]
     side = min(shape[0], MAX_SIDE) * min(shape[1], MAX_SIDE)
-    return (5e-7 * side * c * (k + 2), iterations * c * (4e-7 * width * height + 0.01) * (k + 2),
+    return (5e-7 * side * c * (k + 2), iterations * c * (4e-7 * width * height + 0.024) * (k + 2),
             0.038 * SLICES if c > 1 else 0.0)
 
 

@@ -151,13 +151,13 @@ def _cost(shape, width, height, params):
 
 
 def _memory(shape, width, height, params):
-    """The larger of two phases, beside the half-size exemplar and the selection: synthesis
-    (padded image, colouring and float output per pixel, and a set's chunk of accepted pixels
-    with their columns' neighbour codes and the two counts' differences: three int64 arrays)
-    and the exemplar's statistics (the sampled strips: colours and components, float32, and
-    one channel's marks; the half-size synthesis' upsampled start is kept meanwhile).
-    Selection: every candidate type's pairs on the selection torus (at most
-    ``SELECTION_SIZE`` square). One line each:
+    """The larger of two phases, beside the half-size exemplar and 3 MiB: the fit (the
+    exemplar's statistics: the sampled strips' colours and components, float32, and one
+    channel's marks; the half-size synthesis' upsampled start is kept meanwhile; and the
+    selection: every candidate type's pairs on the selection torus, at most
+    ``SELECTION_SIZE`` square) and the synthesis (padded image, colouring and float output per
+    pixel, and a set's chunk of accepted pixels with their columns' neighbour codes and the
+    two counts' differences: three int64 arrays). One line each:
 
     - a chunk is a colour set's pixels, at most ``CHUNK``; a set times its columns is about
       ``SET_COLUMNS`` a pixel (the colouring takes about as many sets as half the columns: 15
@@ -165,7 +165,14 @@ def _memory(shape, width, height, params):
       every output pixel in one set (4.5x the resident peak at 64 -> 256);
     - the phases do not overlap: tracemalloc's peak from the 12 MP photo and from its 1024^2
       crop to 2048^2 is 473 and 442 MiB (31 MiB apart, the half-size exemplar), this estimate
-      1.12 times both (the phases summed: 1.65 from 12 MP)."""
+      1.12 times both (the phases summed: 1.65 from 12 MP);
+    - the selection's pairs are freed, back to the system, before the synthesis (issue 45):
+      from 64^2 the fit's resident peak is 14.2 MiB (this model's 14.4) and the synthesis'
+      9.8 and 16.7 MiB at 256^2 and 4096 x 32 (7.5, 15.0); counted beside the synthesis, the
+      selection had read 1.25 and 1.51 times the runs' resident peaks (17 and 19 MiB), now
+      1.02 and 0.95;
+    - 3 MiB: a run's resident peak over its largest phase's (2.3-2.8 MiB at 64^2 -> 256^2
+      and 4096 x 32, 2 at 16^2 -> 16^2: the pool's threads, first calls' caches)."""
     t = 2 * min(params["max_cliques"], TYPICAL_TYPES)
     candidates = ((2 * params["max_offset"] + 1) ** 2 - 1) // 2
     torus = min(shape[0], SELECTION_SIZE) * min(shape[1], SELECTION_SIZE)
@@ -174,7 +181,7 @@ def _memory(shape, width, height, params):
     synthesis = width * height * (4 * 6 + 3 * 4 * shape[2]) + chunk
     statistics = sampled_pixels(shape, params["max_offset"]) * (8 * shape[2] + 4) \
         + 4 * shape[2] * width * height
-    return shape[0] * shape[1] * shape[2] + selection + max(synthesis, statistics)
+    return shape[0] * shape[1] * shape[2] + max(synthesis, statistics + selection) + (3 << 20)
 
 
 METHOD = register(Method(
