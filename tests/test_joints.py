@@ -47,3 +47,17 @@ def test_a_wall_thins_to_its_joints_centre_lines():
     wall = (i % 16 < 4) | ((j + 16 * (i // 16 % 2)) % 32 < 4)
     assert np.array_equal(joints.thin(wall), _zhang_suen(wall))
     assert not joints.ends(joints.thin(wall)).any()  # a closed network on the torus
+
+
+
+@pytest.mark.parametrize("shift", [(0, 0), (8, 20), (0, 26), (40, 50)])
+def test_dead_ends_on_the_torus_read_the_same_wherever_the_wrap_falls(shift):
+    # Bed joints broken every 60 px, tiling: read on the torus the array's edges are no place,
+    # so a joint across them neither splits into pieces under MIN_AREA (dropped) nor stops.
+    from texsynth import metrics
+    i, j = np.mgrid[:96, :120]
+    wall = np.where((i % 16 < 3) & (j % 60 < 52), 0.2, 0.7)
+    wall += np.random.default_rng(0).normal(0, 0.05, wall.shape)
+    rule = joints.Joints.fit(wall, sigma=1.5)
+    assert metrics.dead_ends(np.roll(wall, shift, axis=(0, 1)), rule) == pytest.approx(
+        metrics.dead_ends(wall, rule))

@@ -23,7 +23,11 @@ Deviations, one line each:
 - components of the mask smaller than ``MIN_AREA`` (in ``(sigma / f)^2``) are grain, not joints:
   left out;
 - a photo that does not tile is read mirrored at its edges (a joint reaching the edge runs on,
-  not a dead end); a periodic output is read on the torus.
+  not a dead end); a periodic output is read on the torus, its components' areas and the
+  spurs' regrowth too (read on the array, a joint across its edges split into pieces under
+  ``MIN_AREA`` or stopped there: make_tileable's outputs of the brick wall 1024, seeds 0-5,
+  read a dead-end ratio of 1.11-1.15 as they are, 1.14-1.18 rolled by (300, 700); on the
+  torus 1.10-1.14 wherever the wrap falls).
 
 The joints' scale, measured (:func:`joint_scale`): at each scale of a ladder a half octave
 apart the rule above is fitted and its skeleton's directions read (the Hessian's, the line
@@ -45,7 +49,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
 
 __all__ = ["Joints", "luma", "reduce", "thin", "prune", "ends", "coherence", "joint_scale"]
 
@@ -189,9 +194,10 @@ def ends(skeleton: np.ndarray) -> np.ndarray:
     return skeleton & (_degree(skeleton) == 1)
 
 
-def prune(skeleton: np.ndarray, k: int) -> np.ndarray:
+def prune(skeleton: np.ndarray, k: int, wrap: bool = False) -> np.ndarray:
     """Gonzalez & Woods 2008, 9.5.8: the spurs of the skeleton up to ``k`` pixels long removed
-    (its ends eroded ``k`` times, the ends left then regrown ``k`` times along the skeleton).
+    (its ends eroded ``k`` times, the ends left then regrown ``k`` times along the skeleton;
+    on the torus with ``wrap``).
 
     Examples
     --------
@@ -203,7 +209,13 @@ def prune(skeleton: np.ndarray, k: int) -> np.ndarray:
     for _ in range(k):
         a &= ~ends(a)
     tips = ends(a)  # regrown k steps through the removed pixels only (scipy's own iterations)
-    return a | ndimage.binary_dilation(tips, np.ones((3, 3), bool), k, skeleton & ~a | tips)
+    if not wrap:
+        return a | ndimage.binary_dilation(tips, np.ones((3, 3), bool), k, skeleton & ~a | tips)
+    # On the torus: k steps reach at most k pixels, so k rows and columns wrapped around do.
+    h, w = a.shape
+    grown = ndimage.binary_dilation(np.pad(tips, k, mode="wrap"), np.ones((3, 3), bool), k,
+                                    np.pad(skeleton & ~a | tips, k, mode="wrap"))
+    return a | grown[k:k + h, k:k + w]
 
 
 def coherence(image: np.ndarray, sigma: float) -> float:
@@ -310,14 +322,25 @@ class Joints:
     def mask(self, image: np.ndarray, wrap: bool = False) -> np.ndarray:
         """The joints of ``image`` (bool, at the working scale: ``H // f`` x ``W // f``), read
         on the torus when ``wrap``; components under ``MIN_AREA`` left out."""
-        return self.select(_response(reduce(luma(image), self.f), self.sigma / self.f, wrap))
+        return self.select(_response(reduce(luma(image), self.f), self.sigma / self.f, wrap),
+                           wrap)
 
-    def select(self, response: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-        """:meth:`mask` from an image's (dark, bright) responses at the working scale."""
+    def select(self, response: tuple[np.ndarray, np.ndarray], wrap: bool = False
+               ) -> np.ndarray:
+        """:meth:`mask` from an image's (dark, bright) responses at the working scale; with
+        ``wrap``, a component's area counted on the torus (its parts at opposite edges one)."""
         joint = response[0 if self.dark else 1] > self.threshold
         labels, n = ndimage.label(joint)
         if n == 0:
             return joint
+        if wrap:  # the labels that meet across the wrap (4-neighbours, as ndimage.label's)
+            a, b = np.concatenate([labels[0], labels[:, 0]]), np.concatenate(
+                [labels[-1], labels[:, -1]])
+            meet = (a > 0) & (b > 0)
+            graph = sparse.coo_matrix((np.ones(meet.sum()), (a[meet], b[meet])), (n + 1, n + 1))
+            root = csgraph.connected_components(graph, directed=False)[1]
+            labels = np.where(labels > 0, root[labels] + 1, 0)
+            n = int(labels.max())
         area = np.bincount(labels.ravel(), minlength=n + 1)
         keep = area >= MIN_AREA * (self.sigma / self.f) ** 2
         keep[0] = False
@@ -334,7 +357,7 @@ class Joints:
         if m:
             joint = np.pad(joint, m, mode="symmetric")
         k = max(1, int(np.ceil(2 * self.sigma / self.f)))
-        s = prune(thin(joint), k)
+        s = prune(thin(joint), k, wrap=not m)
         e = ends(s)
         if not m:
             return s, e
