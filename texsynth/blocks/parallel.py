@@ -15,7 +15,8 @@ from concurrent.futures import ThreadPoolExecutor
 from contextlib import ContextDecorator
 
 import numpy as np
-from threadpoolctl import threadpool_limits
+import scipy.linalg  # noqa: F401  (loads scipy's BLAS, for _BLAS to find)
+from threadpoolctl import ThreadpoolController
 
 __all__ = ["CORES", "WORKERS", "run", "ranges", "threads", "small_product", "serial_blas"]
 
@@ -28,6 +29,11 @@ CORES = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
 WORKERS = max(1, int(os.environ.get("TEXSYNTH_THREADS") or 0) or CORES)
 _pool: ThreadPoolExecutor | None = None
 _lock = threading.Lock()
+#: The BLAS libraries (numpy's and scipy's, both loaded by the imports above), found once at
+#: import: the search (every loaded library's real path) took 10-25 ms in a process's
+#: first run, before its first fraction, which the time left then read as 9 times that at 10 %
+#: (issue 40: heeger_bergen 128 -> 256, the benchmark's first run, told 1.55x); later runs ~1 ms.
+_BLAS = ThreadpoolController()
 _inside = threading.local()                          # set in the pool's threads
 
 
@@ -127,7 +133,7 @@ class serial_blas(ContextDecorator):
         cls = type(self)
         with cls._lock:
             if cls._users == 0:
-                cls._limiter = threadpool_limits(limits=1, user_api="blas")
+                cls._limiter = _BLAS.limit(limits=1, user_api="blas")
             cls._users += 1
         return self
 
