@@ -1,4 +1,4 @@
-"""Ctrl+C where Python would lose it: while the ``texsynth`` command starts, and in C callbacks.
+"""A Ctrl+C while the ``texsynth`` command starts ends as a later one does: one line, exit 130.
 
 The command (``python -m texsynth``, or the installed ``texsynth``: ``texsynth_command``) spends
 about a second importing numpy and scipy before :mod:`texsynth.cli` can catch anything. CPython
@@ -6,18 +6,15 @@ turns a SIGINT into a ``KeyboardInterrupt`` at the next bytecode, wherever that 
 three things can become of it: it propagates; numpy's own import code catches it and raises an
 ``ImportError`` that no longer names it (about 1 in 75 tries under load); or a library's
 optional import takes it for a missing module and loading goes on (the run then finished and
-wrote its output). A handler that notes the signal before raising tells the last two from a
+wrote its output; threadpoolctl's walk over the loaded libraries, at the import of
+``texsynth.blocks.parallel``, runs in a ctypes callback, which prints such an exception and
+drops it). A handler that notes the signal before raising tells the last two from a
 real failure; :func:`while_starting` ends all three with the one line and ``os._exit(130)``
 (not ``SystemExit``: a Ctrl+C that passed through an ``eval()`` of a string, namedtuple's in
 scipy's imports, leaves CPython 3.11 marked to end by SIGINT whatever is raised after it: exit
 -2 in about 1 of 20 tries under load). Only the command's start is watched: ``import texsynth``
 in a script or in Blender raises ``KeyboardInterrupt`` as any import does, and a SIGINT ignored
 (``nohup``, a shell's background job) stays ignored.
-
-Later, a ``KeyboardInterrupt`` raised inside a function C calls back through ctypes is printed
-as "Exception ignored" with its traceback and dropped (threadpoolctl's walk over the loaded
-libraries, ``dl_iterate_phdr``: the run went on and finished, 1 in 150 tries):
-:func:`deferred` holds a Ctrl+C until such a block ends and raises it there.
 """
 
 from __future__ import annotations
@@ -29,7 +26,7 @@ import sys
 import threading
 from pathlib import Path
 
-__all__ = ["while_starting", "starting_command", "deferred", "MESSAGE"]
+__all__ = ["while_starting", "starting_command", "MESSAGE"]
 
 #: The one line a Ctrl+C during the start prints (the command's own, later, says the same).
 MESSAGE = "texsynth: interrupted; nothing was written"
@@ -90,37 +87,6 @@ def while_starting(active: bool = True):
             signal.signal(signal.SIGINT, signal.default_int_handler)
     if noted:  # taken by a library's optional import for a missing module
         _interrupted()
-
-
-@contextlib.contextmanager
-def deferred():
-    """A Ctrl+C during the block is raised as ``KeyboardInterrupt`` when the block ends, not
-    inside it (in the main thread with Python's default handler; elsewhere the block runs as
-    it is).
-
-    Examples
-    --------
-    >>> before = signal.signal(signal.SIGINT, signal.default_int_handler)  # as a terminal's
-    >>> try:
-    ...     with deferred():
-    ...         signal.raise_signal(signal.SIGINT)
-    ...         finished = True
-    ... except KeyboardInterrupt:
-    ...     print("raised after the block", finished)
-    raised after the block True
-    >>> _ = signal.signal(signal.SIGINT, before)
-    """
-    if not _watching():
-        yield
-        return
-    noted = []
-    signal.signal(signal.SIGINT, lambda signum, frame: noted.append(signum))
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-    if noted:
-        raise KeyboardInterrupt
 
 
 def _interrupted():

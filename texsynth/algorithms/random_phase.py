@@ -55,10 +55,12 @@ __all__ = ["random_phase", "METHOD"]
 SAMPLES = 1 << 20
 #: A channel's time in its transforms' (CPU clock, buffers touched beforehand; medians of 5-9
 #: warm runs at 128^2 -> 1024^2, 256^2 -> 2048^2, 512^2 -> 1024^2, 1024^2 -> 2048^2): the random
-#: phase's draw and transform take PHASE of a channel's transforms (1.4, 1.16, 1.5, 0.93), its
-#: histogram matching (1.25, 0.49, 1.3, 0.67 of them) a pass over the output's pixels, the sort
-#: of the sample and the tables: MATCH_PIXEL + (MATCH_SAMPLE samples + MATCH_FIXED) / pixels.
-PHASE, MATCH_PIXEL, MATCH_SAMPLE, MATCH_FIXED = 1.1, 0.31, 1.16, 6.3e5
+#: phase's draw and transform take PHASE of a channel's transforms (1.4, 1.16, 1.5, 0.93 with
+#: the modulus in a new array; in the noise's pages, issue 40: 0.84, 0.92, 0.89, 0.87, medians
+#: of 3 at 256^2 -> 512^2, -> 1024^2, -> 2048^2, 512^2 -> 2048^2), its histogram matching
+#: (1.25, 0.49, 1.3, 0.67 of them) a pass over the output's pixels, the sort of the sample
+#: and the tables: MATCH_PIXEL + (MATCH_SAMPLE samples + MATCH_FIXED) / pixels.
+PHASE, MATCH_PIXEL, MATCH_SAMPLE, MATCH_FIXED = 0.9, 0.31, 1.16, 6.3e5
 #: Bytes between the writes that touch every page of a new buffer (the smallest page).
 PAGE = 4096
 
@@ -123,7 +125,13 @@ def random_phase(exemplar, width, height, rng, progress):
     rng.random(dtype=np.float32, out=image)
     fft.rfft2(image, out=spectrum)
     spectrum[0, 0] = 1.0                               # theta(0) = 0: the mean is m
-    np.divide(spectrum, np.abs(spectrum), out=spectrum, where=spectrum != 0)  # e^(i theta)
+    # e^(i theta), the modulus in the noise's touched pages: a new array's first touch had made
+    # this step slower than PHASE of a channel, the more so after other runs (issue 40: 256 ->
+    # 2048 after the time-left benchmark's eight runs, told 1.4-1.8x at 10 % and 50 %); a zero
+    # stays zero
+    modulus = np.abs(spectrum, out=image.reshape(-1)[:spectrum.size].reshape(spectrum.shape))
+    np.divide(spectrum, np.maximum(modulus, np.finfo(np.float32).tiny, out=modulus),
+              out=spectrum)
     now = time.process_time()
     # Fractions: the steps so far by their time, then each channel's transforms and matching
     # by their shares of a channel (the phase's time over PHASE, a channel's transforms).

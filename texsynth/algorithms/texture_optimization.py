@@ -206,10 +206,28 @@ COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
-#: An EM iteration's fixed work in output pixels' (for the progress only): at 128 -> 256 a
-#: 32^2 level's iteration took a fifth of the 256^2 one's CPU time (2300; more on a loaded
-#: machine, where its many small calls wait for the core).
-ITERATION_PIXELS = 4000
+#: The progress's model of a step (issue 40; least squares on the CPU seconds of each level's
+#: and patch size's EM iterations and alignment, medians of 8 runs of 128 -> 256 and 256 -> 512
+#: on the brick, 14 steps within 0.87-1.21 of it, the former model's 0.81-1.42, its 512^2
+#: patch-8 step 1.42): per EM iteration, STEP_PATCH s a patch-grid point (the grid has
+#: (p_min / p)^2 of p_min's points), STEP_PIXEL s a pixel, both times (pixels / FIT_PIXELS)^0.12
+#: as in the time's model, and STEP_FIXED s; the copies' alignment ALIGN_FIXED + ALIGN_PIXEL s
+#: a pixel, its own span (it had been reported at the step's end: no progress for 2-3 % of the
+#: time).
+STEP_PATCH, STEP_PIXEL, STEP_FIXED = 1.3e-6, 1.13e-6, 0.0057
+#: Within a step, in its EM iterations' time: the search table's build before the first
+#: (BUILD) and the final pass after the last (FINAL). CPU medians of 3 at 128 -> 256 and
+#: 256 -> 512, the finest two levels: the build and first iteration 0.44-0.56 of a 3-iteration
+#: step, the last two 0.20-0.26 each, the final pass 0.03-0.09; equal thirds and the final pass
+#: at the step's end had told the first third too fast and the end too slow (0.75 at 90 %).
+BUILD, FINAL = 1.0, 0.25
+ALIGN_FIXED, ALIGN_PIXEL = 0.008, 1.1e-6
+#: The joints' measure and the courses' period before the levels, in the same seconds:
+#: SETUP_FIXED + SETUP_PIXEL an exemplar pixel, at most SETUP_MAX (it samples a large photo;
+#: CPU medians of 3 on the brick 128^2, 256^2: 0.020, 0.063 s; the gravel 128^2 to 2048^2:
+#: 0.016, 0.051, 0.18, 0.28, 0.28 s); the progress had started after it (2.5 % of 128 -> 256
+#: at fraction 0: 1.3x told at 10 %).
+SETUP_FIXED, SETUP_PIXEL, SETUP_MAX = 0.005, 7.5e-7, 0.28
 #: Texels the coarsest (largest) patch spans: the texel (twice the correlation length) reads a
 #: quarter to a half of the setts' period, stone and joint (512 crop of the 2048 setts photo:
 #: 40 px against 170; the 12 MP setts' 1024 crop: 86 against 336; the 12 MP setts: 168 / 344).
@@ -272,12 +290,13 @@ def _downsample(image):
 
 
 def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
-             iterations=3, uniformity=2.0, elements=False, courses=False):
+             iterations=3, uniformity=2.0, elements=False, courses=False, setup=0.0):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
     ``levels`` 0: enough to span the exemplar's texel (see the module notes); ``elements``:
     the exemplar has a joint network (its channels added), whose elements the coarsest levels
     place whole; ``courses``: its elements are laid in courses, and the alignment places the
-    copies breadth first from the largest (``align_regions``' walk).
+    copies breadth first from the largest (``align_regions``' walk); ``setup``: the seconds
+    (``_step_cost``'s) of the caller's work before, done when the progress reaches its share.
     """
     progress(0.0, "analysing the exemplar")
     if levels == 0:
@@ -289,8 +308,9 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
-    ends = np.cumsum([0.0] + [_step_cost(pyramid[lv].shape, height, width, lv, p, patch_size,
-                                         iterations) for lv, p in steps])
+    # ends[2 i], ends[2 i + 1], ends[2 i + 2]: step i's EM iterations, then its alignment
+    ends = np.cumsum([setup] + [c for lv, p in steps
+                              for c in _step_cost(height, width, lv, p, patch_size, iterations)])
     ends /= ends[-1]
     positions = None
     for i, (lv, p) in enumerate(steps):
@@ -298,35 +318,32 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
         shape = (-(-height // 2 ** lv), -(-width // 2 ** lv))
         if positions is not None and positions.shape[:2] != shape:
             positions = _upsample(positions, shape, z.shape)
+        start, relaxed, stop = ends[2 * i:2 * i + 3]
         positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
-                                   progress.span(ends[i], ends[i + 1]), f"level {lv}, patch {p}")
-        done, label = ends[i + 1], f"level {lv}: re-cutting straight cuts"
+                                   progress.span(start, relaxed), f"level {lv}, patch {p}")
+        label = f"level {lv}: re-cutting straight cuts"
         positions = recut_straight(z, positions, RUN, BAND,
-                                   tick=lambda d=done, m=label: progress(d, m))
+                                   tick=lambda d=relaxed, m=label: progress(d, m))
         if lv >= 1:  # the copies slide into phase while their layout is still coarse
             label = f"level {lv}: aligning copies"
+            aligning = progress.span(relaxed, stop)
             positions = align_regions(z, positions, SHIFT,
-                                      tick=lambda _, d=done, m=label: progress(d, m),
+                                      tick=lambda d, m=label, a=aligning: a(d, m),
                                       walk=courses)
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
-def _step_cost(exemplar_shape, height, width, lv, p, p_min, iterations) -> float:
-    """Reference seconds of one level and patch size, the terms of :func:`_cost` (EM iterations
-    over the level's output, the search table of its exemplar, the copies' alignment): each
+def _step_cost(height, width, lv, p, p_min, iterations) -> tuple[float, float]:
+    """(EM iterations, alignment) seconds of one level and patch size in the progress's model
+    (``STEP_PATCH``, ``STEP_PIXEL``, ``STEP_FIXED``, ``ALIGN_FIXED``, ``ALIGN_PIXEL``): each
     step's share of the progress, which equal shares had told at a third to a quarter of the
-    time (the finest level's steps hold most of it at 1024 -> 2048); an iteration's fixed work
-    (its loops over the patch offsets, PatchMatch's passes) as ``ITERATION_PIXELS``, a patch
-    of twice ``p_min``'s side at 0.6 of its time (CPU times at 128 -> 256: 0.64)."""
-    h, w = exemplar_shape[:2]
-    stride = _stride((h, w), p)
-    table = (max(0, h - p) // stride + 1) * (max(0, w - p) // stride + 1)
+    time (the finest level's steps hold most of it at 1024 -> 2048)."""
     pixels = -(-height // 2 ** lv) * -(-width // 2 ** lv)
-    work = iterations * (COARSE if lv >= 2 else 1) / 3
-    searched = (1 + (p_min / p) ** 2) / 2            # fewer, larger patches: a cheaper search
-    return (COST_OUT / 2 * searched * (pixels + ITERATION_PIXELS) + COST_TABLE * table) * work \
-        + (COST_ALIGN * pixels if lv >= 1 else 0.0)
+    work = iterations * (COARSE if lv >= 2 else 1)
+    scale = (pixels / FIT_PIXELS) ** 0.12
+    relax = work * ((STEP_PATCH * (p_min / p) ** 2 + STEP_PIXEL) * scale * pixels + STEP_FIXED)
+    return relax, (ALIGN_FIXED + ALIGN_PIXEL * pixels if lv >= 1 else 0.0)
 
 
 def _upsample(positions, shape, exemplar_shape):
@@ -449,16 +466,18 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
     image = z[positions[:, :, 0], positions[:, :, 1]]
     penalty = None
     # The progress by the ticks (blocks of rows, chunks of patches), the iterations' work:
-    # after the first iteration, the others share the rest by its count, the last without
-    # its vote's (equal shares had told 88 % done with a tenth of the time left, then nothing
-    # more).
+    # after the table's build and the first iteration, the others share the rest by its
+    # count, the last without its vote's (equal shares had told 88 % done with a tenth of the
+    # time left, then nothing more); then the final pass (``BUILD``, ``FINAL``).
     count = {"ticks": 0, "first": 0, "rest": 0}
+    whole = BUILD + iterations + FINAL
 
     def tick():
         """Between the steps of an iteration: Esc is heard, and the progress moves."""
         count["ticks"] += 1
         done = (count["ticks"] - count["first"]) / count["rest"] if count["rest"] else 0.0
-        progress((min(done, 1.0) * (iterations - 1) + (count["rest"] > 0)) / iterations, label)
+        progress((BUILD + 1 + min(done, 1.0) * (iterations - 1)) / whole if count["rest"]
+                 else 0.0, label)
 
     for it in range(iterations):
         tick()
@@ -482,7 +501,13 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
     if penalty is not None:  # the final pass sees the usage of the last matches
         total = cost + penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
     score = ((R - 2) / 2 * np.log(np.maximum(total, 0) + eps)).astype(np.float32)
-    return _collage(z, nnf, score, grid, positions, lambda: progress(1.0, label))
+    offsets = [0]
+
+    def final_tick():
+        offsets[0] += 1
+        progress((BUILD + iterations + FINAL * offsets[0] / p ** 2) / whole, label)
+
+    return _collage(z, nnf, score, grid, positions, final_tick)
 
 
 def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch_size=8,
@@ -554,8 +579,9 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
     work = feature_distance.augment(exemplar, joint_width, feature_weight)
     elements = work is not exemplar
     courses = elements and course_period(exemplar) is not None
+    setup = min(SETUP_FIXED + SETUP_PIXEL * exemplar.shape[0] * exemplar.shape[1], SETUP_MAX)
     out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
-                              iterations, uniformity, elements, courses)
+                              iterations, uniformity, elements, courses, setup)
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions

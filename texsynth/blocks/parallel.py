@@ -15,9 +15,8 @@ from concurrent.futures import ThreadPoolExecutor
 from contextlib import ContextDecorator
 
 import numpy as np
+import scipy.linalg  # noqa: F401  (loads scipy's BLAS, for _BLAS to find)
 from threadpoolctl import ThreadpoolController
-
-from .. import interrupts
 
 __all__ = ["CORES", "WORKERS", "run", "ranges", "threads", "small_product", "serial_blas"]
 
@@ -30,6 +29,14 @@ CORES = max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
 WORKERS = max(1, int(os.environ.get("TEXSYNTH_THREADS") or 0) or CORES)
 _pool: ThreadPoolExecutor | None = None
 _lock = threading.Lock()
+#: The BLAS libraries (numpy's and scipy's, both loaded by the imports above), found once at
+#: import: the search (every loaded library's real path) took 10-25 ms in a process's
+#: first run, before its first fraction, which the time left then read as 9 times that at 10 %
+#: (issue 40: heeger_bergen 128 -> 256, the benchmark's first run, told 1.55x); later runs ~1 ms.
+#: At import, the command's start watches it (``texsynth.interrupts``): the search runs in a
+#: ctypes callback, which prints a KeyboardInterrupt raised in it and drops it (1 in 150 Ctrl+C
+#: tries had the run go on).
+_BLAS = ThreadpoolController()
 _inside = threading.local()                          # set in the pool's threads
 
 
@@ -110,9 +117,6 @@ class serial_blas(ContextDecorator):
     process's (OpenBLAS keeps one setting), set by the first of overlapping entries in any
     thread and restored when the last leaves (threadpoolctl: it finds the loaded BLAS, whichever
     numpy brings it, where a hand-written ``openblas_set_num_threads`` would know one build).
-    The libraries are found once a process (6 ms; numpy's and scipy's are loaded by then), a
-    Ctrl+C held until the walk ends (``texsynth.interrupts.deferred``: threadpoolctl walks them
-    in a ctypes callback, which drops exceptions).
 
     Examples
     --------
@@ -127,16 +131,12 @@ class serial_blas(ContextDecorator):
     _lock = threading.Lock()
     _users = 0
     _limiter = None
-    _controller = None
 
     def __enter__(self):
         cls = type(self)
         with cls._lock:
-            if cls._controller is None:
-                with interrupts.deferred():
-                    cls._controller = ThreadpoolController()
             if cls._users == 0:
-                cls._limiter = cls._controller.limit(limits=1, user_api="blas")
+                cls._limiter = _BLAS.limit(limits=1, user_api="blas")
             cls._users += 1
         return self
 
