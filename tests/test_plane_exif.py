@@ -82,7 +82,7 @@ def test_tiff_with_the_tags_in_ifd0(tmp_path):
                                                      * math.hypot(3000, 2000))
 
 
-def test_files_that_do_not_say_give_none(tmp_path):
+def test_files_that_do_not_say_give_none(tmp_path, caplog):
     bare = tmp_path / "bare.jpg"
     bare.write_bytes(_jpeg(640, 480, {ORIENTATION: (SHORT, 1)}, {PIXEL_X: (LONG, 640)}))
     assert focal_px_from_file(bare) is None
@@ -95,6 +95,7 @@ def test_files_that_do_not_say_give_none(tmp_path):
     png.write_bytes(b"\x89PNG\r\n\x1a\n" + struct.pack(">I", 13) + b"IHDR"
                     + struct.pack(">IIBBBBB", 64, 64, 8, 2, 0, 0, 0))
     assert focal_px_from_file(png) is None
+    assert not caplog.records  # nothing printed: ExifRead's "no exif data" is not news
 
 
 def test_a_missing_file_is_refused(tmp_path):

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import math
 import os
 import sys
@@ -556,7 +555,6 @@ def main(argv=None) -> int:
     heeger_bergen: ...
     0
     """
-    logging.getLogger("exifread").setLevel(logging.ERROR)  # "no EXIF" is an answer, not news
     bar = Bar(quiet=True)
     try:
         args = build_parser().parse_args(argv)

@@ -17,6 +17,7 @@ the stored height.
 from __future__ import annotations
 
 import io
+import logging
 import math
 import os
 import struct
@@ -30,6 +31,9 @@ _DIAGONAL_35MM = math.hypot(36.0, 24.0)  # mm: the 35 mm film frame's diagonal (
 _UNIT_MM = {2: 25.4, 3: 10.0, 4: 1.0, 5: 1e-3}  # FocalPlaneResolutionUnit: inch, cm, mm, um
 _TURNED = (5, 6, 7, 8)  # Orientation values that turn the image by 90 degrees
 _PLAUSIBLE = (0.1, 100.0)  # focal length over the image diagonal (fields of view 0.6 to 157 deg)
+# ExifRead warns "PNG file does not have exif data" and the like: here no EXIF is an answer
+# (None), not news; set where it is read, so batches' workers and Blender are quiet too
+logging.getLogger("exifread").setLevel(logging.ERROR)
 
 
 def focal_px_from_file(path) -> float | None:
