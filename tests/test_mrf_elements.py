@@ -31,3 +31,30 @@ def test_a_photo_without_joints_is_synthesized_as_without_the_channel():
     noise = np.random.default_rng(3).random((64, 64, 3), dtype=np.float32)
     plain = synthesize(noise, 72, 64, method="multiscale_mrf", seed=2, feature_weight=0.0)
     assert np.array_equal(synthesize(noise, 72, 64, method="multiscale_mrf", seed=2), plain)
+
+
+def test_the_photos_own_dead_ends_are_copied_less(monkeypatch):
+    """Six gaps cut in the bed joints (12 dead ends in the photo): left free, the synthesis
+    copies each stub's pixel 4.2 times where a photo pixel is copied 3 times (the photo's
+    centre is copied most); with ``DEAD_END_COST`` 1.2 times."""
+    from texsynth import synthesize_positions
+    from texsynth.algorithms import multiscale_mrf as mm
+    from texsynth.blocks import feature_distance
+    from texsynth.blocks.joints import luma
+
+    wall = _wall()
+    for r in (49, 97, 145):  # bed joints' middle rows
+        for x in (40, 150):
+            wall[r - 2:r + 3, x:x + 8] = wall[r + 8:r + 13, x:x + 8]  # brick over the joint
+    ends = mm._photo_ends(luma(wall), feature_distance.fit(wall, 0.0, mm.FEATURE_WEIGHT))
+    assert ends.sum() == 12
+
+    def copies():
+        _, p = synthesize_positions(wall, 384, 384, method="multiscale_mrf", seed=0)
+        use = np.zeros(wall.shape[:2])
+        np.add.at(use, (p[..., 0].ravel(), p[..., 1].ravel()), 1)
+        return use[ends].mean() / use.mean()
+
+    assert copies() < 0.5
+    monkeypatch.setattr(mm, "DEAD_END_COST", 0.0)
+    assert copies() > 1.2

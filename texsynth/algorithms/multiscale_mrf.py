@@ -161,6 +161,35 @@ level: 1.25, 1.24, 1.48 / 1.18, 1.27, 1.33 / 1.53, 1.10, 1.46; share 0.75, every
 two (one): pavers 1.11, 1.37, 1.05 (1.27, 1.41, 1.60), flagstones 0.88, 1.52, 1.47 (1.25, 1.18,
 1.25).
 
+Where there are joints, the photo's own dead ends cost a candidate that would copy them
+(issue 41; ours: a cost on the exemplar position, as ``texture_optimization``'s usage term):
+each table level's candidate p whose block [p, p + 2^l) grown by ``DEAD_END_MARGIN`` sigma holds
+one of the photo's dead ends (``texsynth.blocks.joints``' skeleton of the photo, as
+``texsynth.metrics.dead_end_ratio`` reads it) pays ``DEAD_END_COST`` D per unit of neighbour
+weight (its row's Q + c_e D, so eq. 3 gains c_e D sum(w): a 0.3 % share of neighbours outside).
+Why: of the wall's 344 dead ends (seed 0) 74 lie at seams, 270 inside copies, and the photo's
+dead-end pixels were copied 5.6 times each where a photo pixel is copied 4.0 times on average
+(the centre, where the stubs lie, is copied most): that 1.4x is the ratio. With the cost: 284
+copies of them (4.5 each), 79 dead ends at seams, 218 inside, 297 in all (skeleton 41921 ->
+42285 px). Dead-end ratio, each photo to twice its size, seeds 0-2, before / after (``python
+/tmp/mrf41e/bench.py``, ``benchmarks.sections.elements``' methods): pavers' 512 crop 1.15,
+1.17, 1.28 / 0.94, 0.85, 0.90; generated wall 1.42, 1.33, 1.32 / 1.22, 1.08, 0.96; flagstones
+1.12, 1.05, 1.38 / 1.09, 0.75, 1.14; brick wall 0.98, 0.95, 1.05 / 0.79, 0.92, 0.76; ashlar
+1.10, 1.08, 1.03 / 1.03, 0.90, 0.89; setts 1.05, 0.96, 1.04 / 0.62, 0.64, 0.61 (below 1: the
+output copies fewer of the photo's stubs than the photo shows). Gradient ratio 1.09-1.10 ->
+1.07-1.09 (pavers), 1.02 -> 1.02-1.04 (wall), 1.01-1.02 -> 0.98-1.00 (flagstones), 0.99-1.00
+-> 0.97-0.98 (brick); repeat peak within 0.04 of before, under the photo's + 0.1 (flagstones
+0.24, photo 0.21); the gravel (no joints) bit for bit; CPU 1.0-1.1x. Held out, seeds 3-5:
+pavers 1.22, 1.33, 1.22 / 1.04, 1.00, 0.85, the wall 1.48, 1.32, 1.33 / 1.05, 1.13, 1.13,
+flagstones 1.48, 1.16, 1.53 / 1.36, 1.16, 1.07 (6 dead ends in its photo: a seed's ratio is
+within about 20 % of its rate, and the cost's best there is narrow). Cost 0.002: flagstones
+1.72, 1.24, 1.10, pavers 1.23, 0.69, 1.04, the wall 1.09, 1.22, 1.04; 0.005: pavers 0.79,
+0.74, 0.75, wall 0.93-0.95, setts 0.49-0.51, but flagstones 1.38, 1.24, 1.43; 0.02: wall
+0.66-0.77 with its courses stepped where copies dodge the stubs (skeleton 45102 px), and on
+levels 0-1 only, wall 1.31, 1.29, 1.29. Tried before it and left out: the alignment
+(``align_regions``) on levels 1 and 0 too, moves of one step: the wall 1.41, 1.32, 1.35 (CPU
+1.4x); on level 1 alone, moves of two steps (one): 1.37, 1.32, 1.36 (1.40, 1.31, 1.31).
+
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
 
@@ -186,6 +215,8 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - where there are joints the coarsest levels get more visits and random candidates than T;
 - (ours) where there are joints, levels ``REPAIR_LEVELS`` relax again around the joints that
   stop at a seam (``joint_repair``);
+- (ours) where there are joints, a candidate copying one of the photo's dead ends costs
+  ``DEAD_END_COST`` D more per unit of weight (table levels only, not the windows');
 - (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
   copies are the random start's) and the finest, on a grid of at most ``ALIGN_PIXELS`` pixels
   that reads tables (not windows), whole copies move by up to ``SHIFT`` grid steps each way
@@ -202,7 +233,7 @@ Kav-Venaki & Peleg 2009, section 3; Kwatra et al. 2003, section 3.1.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
+from scipy.ndimage import maximum_filter, uniform_filter1d
 
 from ..blocks import feature_distance, joint_repair, multigrid, region_shift
 from ..blocks.joints import luma
@@ -251,6 +282,10 @@ TABLE_ROWS = 1 << 21
 SHIFT = 2
 #: The largest grid (pixels) whose copies are slid into phase.
 ALIGN_PIXELS = 256 * 256
+#: Where there are joints, the cost of a candidate whose block (grown by ``DEAD_END_MARGIN``
+#: joint half widths) holds one of the photo's own dead ends, per unit of neighbour weight, in
+#: units of D (the maximal difference: an outside neighbour's cost).
+DEAD_END_COST, DEAD_END_MARGIN = 0.003, 2.0
 #: Rounds of single region moves per level after the walk.
 SWEEPS = 1
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -485,6 +520,7 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
         small = shapes[lv][0] * shapes[lv][1] <= COARSE_PIXELS
         return factor if lv >= len(shapes) - COARSE_LEVELS and small else 1
 
+    ends = None if repair is None else _photo_ends(*repair)
     kept = {}  # the table array, refilled by every table level; the windows, built once
 
     def make_level(lv, tick):
@@ -495,6 +531,9 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
             sub = box_means(centred, step, stride, exemplar_tiles, kept)
             table = neighbour_table(sub, offsets, step // stride, exemplar_tiles, dmax,
                                     kept.get("table"), tick)
+            if ends is not None:  # Q + c_e D: eq. 3 gains c_e D sum(w) at a stub
+                near = _near_ends(ends, step, repair[1].sigma)[::stride, ::stride]
+                table[:-1, len(offsets) * c:] += (DEAD_END_COST * dmax * near).reshape(-1, 1)
             kept["table"] = table
             level = _Level(Rows(table), Rows(sub.reshape(-1, c)), sub.shape[:2], stride, w,
                            offsets, step // stride, exemplar_tiles, *candidates)
@@ -569,6 +608,25 @@ def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):
         multigrid.relax(level, source, halves, visits, rng,
                         lambda f, *_, r=r: tick((r + f) / REPAIR_ROUNDS), lv)
     return source
+
+
+def _photo_ends(photo, joints):
+    """The photo's own dead ends (bool, (h, w)): ``joints``' skeleton of ``photo`` (its luma),
+    read mirrored at the edges, its ends placed at full resolution."""
+    _, end = joints.skeleton(photo, wrap=False)
+    f = joints.f
+    r, c = np.nonzero(end)
+    out = np.zeros(photo.shape[:2], bool)
+    out[np.minimum(r * f + f // 2, len(out) - 1), np.minimum(c * f + f // 2, out.shape[1] - 1)] = 1
+    return out
+
+
+def _near_ends(ends, step, sigma):
+    """The positions p (bool) whose block ``[p, p + step)`` (what a level's grid point copies),
+    grown by ``DEAD_END_MARGIN`` sigma on each side, holds a dead end of ``ends``."""
+    m = int(np.ceil(DEAD_END_MARGIN * sigma))
+    size = step + 2 * m
+    return maximum_filter(ends, size, origin=m - size // 2, mode="constant")
 
 
 def box_means(image, size, stride, wrap, kept=None):
