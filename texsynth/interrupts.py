@@ -8,8 +8,8 @@ three things can become of it: it propagates; numpy's own import code catches it
 optional import takes it for a missing module and loading goes on (the run then finished and
 wrote its output; threadpoolctl's walk over the loaded libraries, at the import of
 ``texsynth.blocks.parallel``, runs in a ctypes callback, which prints such an exception and
-drops it). A handler that notes the signal before raising tells the last two from a
-real failure; :func:`while_starting` ends all three with the one line and ``os._exit(130)``
+drops it). A handler that notes the signal and lets the imports finish (under a second) loses
+nothing; :func:`while_starting` ends all three with the one line and ``os._exit(130)``
 (not ``SystemExit``: a Ctrl+C that passed through an ``eval()`` of a string, namedtuple's in
 scipy's imports, leaves CPython 3.11 marked to end by SIGINT whatever is raised after it: exit
 -2 in about 1 of 20 tries under load). Only the command's start is watched: ``import texsynth``
@@ -69,9 +69,8 @@ def while_starting(active: bool = True):
     """
     noted = []
 
-    def note(signum, frame):
+    def note(signum, frame):  # no exception inside the imports: none to lose or to print
         noted.append(signum)
-        signal.default_int_handler(signum, frame)
 
     watch = active and _watching()
     if watch:
