@@ -171,8 +171,8 @@ Why: of the wall's 344 dead ends (seed 0) 74 lie at seams, 270 inside copies, an
 dead-end pixels were copied 5.6 times each where a photo pixel is copied 4.0 times on average
 (the centre, where the stubs lie, is copied most): that 1.4x is the ratio. With the cost: 284
 copies of them (4.5 each), 79 dead ends at seams, 218 inside, 297 in all (skeleton 41921 ->
-42285 px). Dead-end ratio, each photo to twice its size, seeds 0-2, before / after (``python
-/tmp/mrf41e/bench.py``, ``benchmarks.sections.elements``' methods): pavers' 512 crop 1.15,
+42285 px). Dead-end ratio, each photo to twice its size, seeds 0-2, before / after (the cases
+of ``benchmarks.sections.elements``' methods): pavers' 512 crop 1.15,
 1.17, 1.28 / 0.94, 0.85, 0.90; generated wall 1.42, 1.33, 1.32 / 1.22, 1.08, 0.96; flagstones
 1.12, 1.05, 1.38 / 1.09, 0.75, 1.14; brick wall 0.98, 0.95, 1.05 / 0.79, 0.92, 0.76; ashlar
 1.10, 1.08, 1.03 / 1.03, 0.90, 0.89; setts 1.05, 0.96, 1.04 / 0.62, 0.64, 0.61 (below 1: the
