@@ -2,11 +2,14 @@
 (issue 45): at the shapes the benchmarks and the bad-input cases use (square, long and thin, a
 small exemplar to a large output).
 
-Each row is one fresh process (``benchmarks/prediction_run.py``): the prediction the panel shows
+Each run is one fresh process (``benchmarks/prediction_run.py``): the prediction the panel shows
 and the budgets check (``texsynth.budget.forecast``, ``texsynth.tileable.predict``: the cost
 model times this machine's speed and load, and ``Method.memory``), then the run; the peak is
 resident (the high-water mark above the resident size before the run, ``VmHWM`` reset), not
-only tracemalloc's.
+only tracemalloc's. Every case runs in :data:`ROUNDS` rounds over all the cases and a row is
+the rounds' medians: on the 2026-12 virtual machine the same 400 MB first touch took 0.08 to
+7.9 ms a MiB in fresh processes, as the host had or had not taken the freed memory back, so one
+run of random_phase 32 -> 4096^2 read 0.46 to 2.96 s.
 """
 
 from __future__ import annotations
@@ -14,6 +17,8 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+
+import numpy as np
 
 from ..context import REPO
 
@@ -59,6 +64,8 @@ CASES = [
     ("make_tileable", (3000, 4000), (0, 0), {}, "12 MP photo"),
 ]
 QUICK = {"square"}
+#: Rounds over all the cases (each case's runs minutes apart, not back to back).
+ROUNDS = 3
 
 
 def measure(case) -> dict:
@@ -68,6 +75,15 @@ def measure(case) -> dict:
     done = subprocess.run([sys.executable, "-m", "benchmarks.prediction_run", json.dumps(spec)],
                           cwd=REPO, capture_output=True, text=True, check=True)
     return {**json.loads(done.stdout.strip().splitlines()[-1]), "shape": shape}
+
+
+def median_run(runs: list[dict]) -> dict:
+    """One case's rounds: the medians of the predicted and measured figures, and the measured
+    seconds' range."""
+    keys = ("predicted_s", "measured_s", "predicted_bytes", "resident_bytes")
+    seconds = [r["measured_s"] for r in runs]
+    return {**runs[0], **{k: float(np.median([r[k] for r in runs])) for k in keys},
+            "measured_range": (min(seconds), max(seconds))}
 
 
 def _ratio(predicted: float, measured: float) -> str:
@@ -80,9 +96,12 @@ def run(ctx) -> str:
     cases = [c for c in CASES if c[4] in QUICK and c[0] != "efros_leung"] if ctx.quick \
         else CASES
     lines = [
-        "Each row a fresh process: the prediction (what the panel shows and the budgets check: "
-        "`budget.forecast`, `tileable.predict`, at this machine's speed and load as read at the "
-        "start) then the run, default parameters, seed 0, exemplar the pool_water sample's "
+        f"Each row the medians of {ROUNDS} fresh processes, in {ROUNDS} rounds over all the "
+        "cases (on this virtual machine the same run's time moves by up to 6x with whether the "
+        "host has taken back the memory it touches): in each, the prediction (what the panel "
+        "shows and the budgets check: `budget.forecast`, `tileable.predict`, at this "
+        "machine's speed and load as read at the start) then the run, default parameters, "
+        "seed 0, exemplar the pool_water sample's "
         "corner (tiled up when larger; make_tileable's with a ramp across so it does not "
         "already tile). Peak: the resident high-water mark over the resident size before the "
         "run (`VmHWM`, reset through /proc/self/clear_refs). Ratio: predicted / measured, "
@@ -90,14 +109,19 @@ def run(ctx) -> str:
         f"(**x**: outside); peaks under {FLOOR_MIB:.0f} MiB both ways are not rated (the "
         "allocator's noise).",
         "",
-        "| method | shape | exemplar | output | predicted s | measured s | ratio | predicted MiB "
-        "| resident MiB | ratio |",
+        "| method | shape | exemplar | output | predicted s | measured s (range) | ratio "
+        "| predicted MiB | resident MiB | ratio |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
     ]
+    runs = [[] for _ in cases]
+    for round_ in range(ROUNDS):
+        for case, done in zip(cases, runs, strict=True):
+            print(f"   round {round_ + 1}: {case[0]} {case[4]}", flush=True)
+            done.append(measure(case))
     rated = inside = 0
-    for case in cases:
-        print(f"   {case[0]} {case[4]}", flush=True)
-        r = measure(case)
+    for case, done in zip(cases, runs, strict=True):
+        r = median_run(done)
+        low, high = r["measured_range"]
         mib_p, mib_m = r["predicted_bytes"] / 2**20, r["resident_bytes"] / 2**20
         time_ratio = _ratio(r["predicted_s"], r["measured_s"])
         small = max(mib_p, mib_m) < FLOOR_MIB
@@ -107,7 +131,7 @@ def run(ctx) -> str:
         h, w = r["exemplar"]
         output = "" if case[0] == "make_tileable" else f"{r['size'][0]} x {r['size'][1]}"
         lines.append(f"| {case[0]} | {case[4]} | {w} x {h} | {output} | {r['predicted_s']:.2f} "
-                     f"| {r['measured_s']:.2f} | {time_ratio} | {mib_p:.0f} | {mib_m:.0f} "
-                     f"| {memory_ratio} |")
+                     f"| {r['measured_s']:.2f} ({low:.2f}-{high:.2f}) | {time_ratio} "
+                     f"| {mib_p:.0f} | {mib_m:.0f} | {memory_ratio} |")
     lines += ["", f"Within {GOAL:g}x: **{inside} of {rated}** rated predictions."]
     return "\n".join(lines)
