@@ -25,9 +25,8 @@ TITLE = "Time left: the estimate at 10, 50 and 90 % against the time that was le
 SEED = 0
 #: Fractions at which the estimate is read.
 MARKS = (0.1, 0.5, 0.9)
-#: (exemplar side, output side) per method: small enough for the section to take minutes; the
-#: fast method at a size where it takes a measurable time, the slow one smaller.
-#: Each a few seconds here (a run that ends within a second never shows a time left but 0:00).
+#: (exemplar side, output side) per method: each run a few seconds here, the section a few
+#: minutes (a run that ends within a second never shows a time left but 0:00).
 SIZES = {"heeger_bergen": (256, 1024), "efros_leung": (64, 256), "random_phase": (512, 4096),
          "de_bonet": (512, 2048), "multiscale_mrf": (128, 512), "cooccurrence": (128, 512),
          "texture_optimization": (128, 512), "composite": (128, 384)}
