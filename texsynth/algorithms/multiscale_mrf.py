@@ -182,7 +182,11 @@ output copies fewer of the photo's stubs than the photo shows). Gradient ratio 1
 0.24, photo 0.21); the gravel (no joints) bit for bit; CPU 1.0-1.1x. Held out, seeds 3-5:
 pavers 1.22, 1.33, 1.22 / 1.04, 1.00, 0.85, the wall 1.48, 1.32, 1.33 / 1.05, 1.13, 1.13,
 flagstones 1.48, 1.16, 1.53 / 1.36, 1.16, 1.07 (6 dead ends in its photo: a seed's ratio is
-within about 20 % of its rate, and the cost's best there is narrow). Cost 0.002: flagstones
+within about 20 % of its rate, and the cost's best there is narrow). These figures were read on
+the skeleton before its wrap fix (``Joints.skeleton(wrap=True)``); on it, the benchmark reads
+seeds 0-2: pavers 0.89, 0.87, 0.83, the wall 1.16, 1.06, 0.97, flagstones 1.35, 1.18, 1.37
+(``python -m benchmarks --only elements``), and the wall's courses still step where its copies
+meet across the wrap. Cost 0.002: flagstones
 1.72, 1.24, 1.10, pavers 1.23, 0.69, 1.04, the wall 1.09, 1.22, 1.04; 0.005: pavers 0.79,
 0.74, 0.75, wall 0.93-0.95, setts 0.49-0.51, but flagstones 1.38, 1.24, 1.43; 0.02: wall
 0.66-0.77 with its courses stepped where copies dodge the stubs (skeleton 45102 px), and on
