@@ -140,3 +140,17 @@ def test_efros_leung_memory_counts_a_batch_front_not_a_fixed_matrix():
     assert peak < 16 * 2**20
     _, strip = budget.forecast("efros_leung", (32, 32, 3), 16384, 16)
     assert strip < 48 * 2**20
+
+
+@pytest.mark.parametrize("method", ["multiscale_mrf", "texture_optimization"])
+def test_the_photo_at_hand_tells_whether_its_joints_are_counted(method):
+    i, j = np.mgrid[:256, :256]
+    wall = np.where((i % 24 < 4) | ((j + 24 * (i // 24 % 2)) % 48 < 4), 0.2, 0.7)
+    wall = np.repeat(wall[:, :, None], 3, axis=2).astype(np.float32)
+    gravel = np.random.default_rng(0).random((256, 256, 3)).astype(np.float32)
+    shape_only = budget.forecast(method, (256, 256, 3), 512, 512)
+    joints = budget.forecast(method, (256, 256, 3), 512, 512, exemplar=wall)
+    assert joints[0] > shape_only[0] and joints[1] > shape_only[1]
+    assert budget.forecast(method, (256, 256, 3), 512, 512, exemplar=gravel) == shape_only
+    assert budget.forecast(method, (256, 256, 3), 512, 512, {"feature_weight": 0.0},
+                           exemplar=wall) == shape_only

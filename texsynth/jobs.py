@@ -336,7 +336,8 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
                 raise InputError(f"{job.origin + ': ' if job.origin else ''}{path}: "
                                  f"{shape(job, path)[1]} x {shape(job, path)[0]}, not the "
                                  f"photo's {photo[1]} x {photo[0]}")
-        forecasts.append(_check_run(job, in_shape(photo, job.in_size)))
+        forecasts.append(_check_run(job, in_shape(photo, job.in_size),
+                                    _pixels(job) if _reads_joints(job) else None))
     longest: dict[Path, str] = {}
     for out in (Path(out) for job in jobs for out in job.all_outputs()):
         if len(out.name.encode()) > len(longest.get(out.parent, "").encode()):
@@ -346,9 +347,34 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
     return forecasts
 
 
-def _check_run(job: Job, shape) -> tuple[float, float]:
+def _reads_joints(job: Job) -> bool:
+    """Whether the job's method measures the photo's joints (``joint_width`` 0, its default),
+    which its predictions need the photo's pixels to count."""
+    if job.operation not in ("synthesize", "material"):
+        return False
+    try:
+        method = get_method(job.method or material.METHOD)
+    except ValueError:
+        return False  # named by _check_run
+    names = {p.name for p in method.params}
+    given = dict(job.params)
+    return "joint_width" in names and not given.get("joint_width") \
+        and given.get("feature_weight", 1.0) != 0
+
+
+def _pixels(job: Job):
+    """The job's photo read for its prediction (once more than the run reads it: 0.1-0.4 s for
+    a 12 MP JPEG), or None when it cannot be (the run then names why)."""
+    try:
+        return read_input(job.photo)[:, :, :3]
+    except InputError:
+        return None
+
+
+def _check_run(job: Job, shape, pixels=None) -> tuple[float, float]:
     """The method's own checks (``api.check``, ``tileable.check``) on the photo's shape, and
-    the run's predicted (seconds, peak bytes)."""
+    the run's predicted (seconds, peak bytes); ``pixels``, the photo, lets the prediction
+    count its joints (``budget.forecast``'s ``exemplar``)."""
     if job.operation not in OPERATIONS:
         raise UsageError(f"{job.at('operation')}: must be one of {', '.join(OPERATIONS)}, got "
                          f"{job.operation!r}")
@@ -357,7 +383,7 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
                          f"at most {validation.MAX_SIDE} pixels a side")
     try:
         if job.operation == "material":
-            return _check_material(job, shape)
+            return _check_material(job, shape, pixels)
         if job.operation == "tile":
             band, _ = tileable.check(shape, band=job.band, seed=job.seed)
             return tileable.predict(shape, band)
@@ -368,7 +394,7 @@ def _check_run(job: Job, shape) -> tuple[float, float]:
                              f"pixels, so other maps cannot follow it; use one of {copying}")
         width, height, _, params = api.check(shape, job.width, job.height, method=job.method,
                                              seed=job.seed, **dict(job.params))
-        return budget.forecast(job.method, shape, width, height, params)
+        return budget.forecast(job.method, shape, width, height, params, exemplar=pixels)
     except validation.BudgetError as error:
         raise RefusedError(f"{_named(job)}: {error}") from None
     except ValueError as error:
@@ -504,7 +530,7 @@ def material_job(photo: str, folder, *, mask: str | None = None, size=None, corn
                in_size=in_size, origin=origin)
 
 
-def _check_material(job: Job, shape) -> tuple[float, float]:
+def _check_material(job: Job, shape, pixels=None) -> tuple[float, float]:
     """``material.check`` on the photo's shape: the material's predicted (seconds, bytes)."""
     p = dict(job.params)
     if p["format"] not in ("png", "exr"):
@@ -514,7 +540,7 @@ def _check_material(job: Job, shape) -> tuple[float, float]:
         raise UsageError(f"{job.at('corners')}: 8 numbers x1,y1,...,x4,y4 (pixels, in order "
                          f"around the rectangle), got {len(p['corners'])}")
     return material.check(shape, size=p["size"], steps=p["steps"], method=job.method,
-                          seed=job.seed, masked=bool(job.maps))
+                          seed=job.seed, masked=bool(job.maps), photo=pixels)
 
 
 def execute_material(job: Job, progress=None) -> tuple[list[str], tuple[str, ...]]:

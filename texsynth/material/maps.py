@@ -68,6 +68,8 @@ FINE = 3.0
 #: The gradient's coring: a Gaussian field's rms / median magnitude is 1.20; past ``TAIL`` the
 #: threshold is ``CORE`` median magnitudes per unit of the excess (the flagstones' 2.4: 1.8).
 TAIL, CORE = 1.5, 2.0
+#: Widest Gaussian (px) taken by ``gaussian_filter``; wider ones by the transform.
+FFT_SIGMA = 8.0
 #: Horizon directions of the AO.
 DIRECTIONS = 8
 #: The roughness window (texel sizes) and its lower bound.
@@ -193,6 +195,29 @@ def _shift(a: np.ndarray, di: int, dj: int, wrap: bool) -> np.ndarray:
     return a[i][:, j]
 
 
+def _gaussian(a: np.ndarray, sigma: float, wrap: bool) -> np.ndarray:
+    """``a`` blurred by a Gaussian of ``sigma`` px, periodic (``wrap``) or with its edges
+    repeated: ``gaussian_filter`` up to ``FFT_SIGMA``, beyond it by the transform (the
+    Gaussian's own, exp(-2 pi^2 sigma^2 |f|^2), on the grid padded by 4 sigma without
+    ``wrap``), whose cost does not grow with the window (a 2048 crop of the 12 MP setts, sigma
+    about 50 px: 9.5 s of its maps' 14 s in the filter's correlations).
+
+    Examples
+    --------
+    >>> a = np.random.default_rng(0).random((64, 48)).astype(np.float32)
+    >>> bool(abs(_gaussian(a, 20.0, True) - gaussian_filter(a, 20.0, mode="wrap")).max() < 1e-3)
+    True
+    """
+    if sigma <= FFT_SIGMA:
+        return gaussian_filter(a, sigma, mode="wrap" if wrap else "nearest")
+    pad = 0 if wrap else int(np.ceil(4 * sigma))
+    b = np.pad(a, pad, mode="edge") if pad else a
+    fy, fx = _frequencies(*b.shape)
+    weight = np.exp(-2 * np.pi ** 2 * sigma ** 2 * (fx ** 2 + fy ** 2)).astype(np.float32)
+    out = sfft.irfft2(sfft.rfft2(b) * weight, s=b.shape)
+    return out[pad:pad + a.shape[0], pad:pad + a.shape[1]].astype(a.dtype, copy=False)
+
+
 def _ao(z: np.ndarray, reach: float, wrap: bool) -> np.ndarray:
     """Bavoil et al. 2008's horizon-based AO of the height ``z`` in pixels."""
     distances = np.unique(np.round(np.geomspace(1, max(1.0, reach), 6)).astype(int))
@@ -253,9 +278,8 @@ def derive_maps(colour, *, wrap: bool = True, alpha: float = ALPHA,
     height = ((z - z.min()) / span if span > 0 else np.full_like(z, 0.5)).astype(np.float32)
     ao = np.clip(_ao(z_px, texel, wrap), 0.0, 1.0).astype(np.float32)
     sigma = max(1.0, TEXELS_ROUGH * texel / 2)  # Gaussian windows: a box's squares showed
-    mode = "wrap" if wrap else "nearest"
-    detail = z_px - gaussian_filter(z_px, sigma, mode=mode)
-    local = np.sqrt(gaussian_filter(detail ** 2, sigma, mode=mode))
+    detail = z_px - _gaussian(z_px, sigma, wrap)
+    local = np.sqrt(np.maximum(_gaussian(detail ** 2, sigma, wrap), 0.0))
     top = float(np.percentile(local, 99))
     rough = ROUGH_MIN + (1 - ROUGH_MIN) * np.clip(local / top if top > 0 else 0 * local, 0, 1)
     return Maps(normal=normal, height=height, roughness=rough.astype(np.float32), ao=ao)

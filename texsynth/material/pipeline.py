@@ -57,11 +57,14 @@ SUFFIXES = ("Color", "NormalGL", "Displacement", "Roughness", "AmbientOcclusion"
 #: Reference-machine seconds of the steps texsynth.plane and mat-core's modules give no model
 #: for, measured on the 12 MP phone photo of benchmarks/sections/material_pipeline.py: the
 #: plane estimate (its analysis runs at a fixed side, plus the full photo's luminance), and
-#: delight, heal and derive_maps per pixel they touch.
-ESTIMATE_SECONDS = (1.0, 1e-7)  # (fixed, per photo pixel)
-DELIGHT_SECONDS_PER_PIXEL = 7e-8
+#: delight, heal and derive_maps per pixel they touch. Re-measured 2026-12-03 (CPU time over
+#: ``budget.speed``) at 0.75, 3 and 12 MP: the estimate 5.9, 4.9, 6.9 s; delight 6.5, 2.2,
+#: 4.3e-7 s a pixel; derive_maps at 512-2048 a side 3.2-4.5e-6 s a pixel (the old constants
+#: told the 12 MP material 0.3x its time).
+ESTIMATE_SECONDS = (5.0, 1.5e-7)  # (fixed, per photo pixel)
+DELIGHT_SECONDS_PER_PIXEL = 3.5e-7
 HEAL_SECONDS_PER_PIXEL = 2e-6  # per masked pixel
-MAPS_SECONDS_PER_PIXEL = 4e-7
+MAPS_SECONDS_PER_PIXEL = 4e-6
 #: Peak bytes per pixel of the steps without a memory model of their own: rectify's (its
 #: float32 copy of the photo, the output's coordinates, filter levels and result: 479 MB peak
 #: measured by tracemalloc on the 12 MP phone photo, 42 per photo pixel), and float32 working
@@ -131,11 +134,12 @@ def _keep_mask(photo: np.ndarray, mask) -> np.ndarray | None:
 
 
 def check(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None = None,
-          seed: int = 0, masked: bool = False) -> tuple[float, float]:
+          seed: int = 0, masked: bool = False, photo=None) -> tuple[float, float]:
     """Every check :func:`photo_to_material` makes before any work, from the photo's shape
     alone (a command line reads only the header): the steps, ``size``, the method and seed
     (``api.check``, ``tileable.check`` at the photo's shape, the rectified size not being
-    known yet), and the budgets; the predicted (seconds, peak bytes), as :func:`predict`.
+    known yet), and the budgets; the predicted (seconds, peak bytes), as :func:`predict`
+    (``photo``, when at hand, lets it count the joints).
 
     Examples
     --------
@@ -150,7 +154,8 @@ def check(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None 
             tileable.check(shape, seed=seed)
         else:
             api.check(shape, *size, method=method or METHOD, seed=seed)
-    seconds, peak = predict(shape, size=size, steps=steps, method=method, masked=masked)
+    seconds, peak = predict(shape, size=size, steps=steps, method=method, masked=masked,
+                            photo=photo)
     what = f"making a material of the {shape[1]} x {shape[0]} photo"
     budget.admit(what, peak=peak, seconds=seconds,
                  memory_advice="a smaller --size, or a smaller photo",
@@ -158,8 +163,10 @@ def check(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None 
     return seconds, peak
 
 
-def step_costs(shape, size, steps, method, masked) -> dict[str, tuple[float, float]]:
-    """Each step's predicted (seconds on this machine, peak bytes)."""
+def step_costs(shape, size, steps, method, masked,
+               photo=None) -> dict[str, tuple[float, float]]:
+    """Each step's predicted (seconds on this machine, peak bytes); ``photo``, when at hand,
+    lets the tile step's prediction count its joints (``budget.forecast``'s ``exemplar``)."""
     h, w = shape[:2]
     c = shape[2] if len(shape) == 3 else 1
     n = h * w
@@ -179,7 +186,8 @@ def step_costs(shape, size, steps, method, masked) -> dict[str, tuple[float, flo
         if size is None:
             costs["tile"] = tileable.predict((h, w, 3))
         else:
-            costs["tile"] = budget.forecast(method or METHOD, (h, w, 3), *size)
+            costs["tile"] = budget.forecast(method or METHOD, (h, w, 3), *size,
+                                            exemplar=None if photo is None else photo[:, :, :3])
     if "maps" in steps:
         costs["maps"] = (MAPS_SECONDS_PER_PIXEL * out[0] * factor,
                          MAPS_BYTES_PER_PIXEL * out[0])
@@ -187,7 +195,7 @@ def step_costs(shape, size, steps, method, masked) -> dict[str, tuple[float, flo
 
 
 def predict(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | None = None,
-            masked: bool = False) -> tuple[float, float]:
+            masked: bool = False, photo=None) -> tuple[float, float]:
     """(seconds on this machine, peak bytes) predicted for :func:`photo_to_material` of a
     photo of ``shape`` (H, W, C): the sum of the steps' own predictions (``tileable.predict``,
     ``budget.forecast``, rectify's cost per sample, the constants above) and the largest of
@@ -199,7 +207,7 @@ def predict(shape, *, size=None, steps: Sequence[str] = STEPS, method: str | Non
     >>> seconds > predict((768, 1024, 3), size=(512, 512), steps=("tile",))[0]
     True
     """
-    costs = step_costs(tuple(shape), size, _steps(steps), method, masked)
+    costs = step_costs(tuple(shape), size, _steps(steps), method, masked, photo)
     held = 8 * shape[0] * shape[1] * (shape[2] if len(shape) == 3 else 1)
     return (sum(s for s, _ in costs.values()),
             held + max((p for _, p in costs.values()), default=0))
@@ -288,7 +296,7 @@ def photo_to_material(photo, *, size=None, mask=None, corners=None,
     keep = _keep_mask(a, mask) if "heal" in steps else None
     if keep is not None and keep.min() == 1.0:
         keep = None
-    costs = step_costs(a.shape, size, steps, method, keep is not None)
+    costs = step_costs(a.shape, size, steps, method, keep is not None, a)
     ends = np.cumsum([seconds for seconds, _ in costs.values()] or [0.0])
     ends = list(ends / ends[-1] if ends[-1] > 0 else ends)
     spans = {name: Progress(progress, float(a), float(b)) for name, a, b

@@ -117,8 +117,10 @@ def _texture_mask(lum: np.ndarray) -> np.ndarray:
 
 
 #: Seconds per output sample and channel (+2 for the coordinates) of rectify on the reference
-#: machine (texsynth.budget), measured at 512 to 1536 pixels a side.
-RECTIFY_SECONDS_PER_SAMPLE = 5e-8
+#: machine (texsynth.budget), its texture mask and footprint levels included: the 12 MP phone
+#: photo of benchmarks/phone_photo.py at 0.75, 3 and 12 MP, 3.0, 3.3 and 2.3e-7 (5e-8 had been
+#: measured at 512 to 1536 pixels a side without the mask).
+RECTIFY_SECONDS_PER_SAMPLE = 2.5e-7
 
 
 def _check_estimate(estimate) -> None:
