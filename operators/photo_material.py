@@ -97,7 +97,8 @@ class TEXSYNTH_OT_photo_to_material(JobOperator, bpy.types.Operator):
             corners = np.reshape(context.scene.texsynth.plane.corners, (4, 2))
         masked = mask is not None or (values.shape[2] == 4 and values[:, :, 3].min() < 1)
         seconds, _ = texsynth.material.pipeline.check(values.shape, size=size, steps=steps,
-                                                      seed=self.seed, masked=masked)
+                                                      seed=self.seed, masked=masked,
+                                                      photo=values)
         base = self.target(name, "material")
         out = size or values.shape[1::-1]
         seconds += output.predict_seconds(values.shape[0] * values.shape[1],

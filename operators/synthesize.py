@@ -48,7 +48,7 @@ class TEXSYNTH_OT_synthesize(JobOperator, bpy.types.Operator):
         texsynth.api.check(exemplar.shape, self.width, self.height, method=method.name,
                            seed=self.seed, **params)  # refused here, before the forecast
         predicted, _ = texsynth.budget.forecast(method.name, exemplar.shape, self.width,
-                                                self.height, params)
+                                                self.height, params, exemplar=exemplar)
         job = Task(texsynth.synthesize, exemplar, self.width, self.height, method=method.name,
                    seed=self.seed, predicted=predicted, **params)
         return job, (src, encoding, target)
