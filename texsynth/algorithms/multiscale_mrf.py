@@ -279,7 +279,8 @@ MIN_LEVELS = 4
 #: Texels the coarsest neighbourhood's radius spans: a texel and its joints with the next on
 #: every side (one texel across left the setts' joints in fragments: gradient ratio 0.87).
 REACH_TEXELS = 2
-#: The most exemplar positions a level's table holds (448 bytes each for RGB, radius 3).
+#: The most exemplar positions a level's table holds (448 bytes each for RGB, radius 3; with
+#: C channels, 4 / (C + 1) of it).
 TABLE_ROWS = 1 << 21
 #: The largest move of a copied region, in grid steps each way, when a level's copies are
 #: slid into phase (``align_regions``).
@@ -682,7 +683,10 @@ def _channel_statistics(exemplar):
 
 def lattice_stride(shape) -> int:
     """The least power of two s whose lattice ``exemplar[::s, ::s]`` has at most
-    ``TABLE_ROWS`` pixels: the stride of the tables of levels l with 2^l >= s.
+    ``TABLE_ROWS`` pixels of 4 values (RGB and Q; fewer with more channels, so the joints'
+    two do not make the table half as large again): the stride of the tables of levels l with
+    2^l >= s. The rectified 12 MP setts (2615 x 3148) to 1024 with its joints: stride 2 -> 4,
+    resident 1887 -> 852 MiB, CPU 25.6 -> 18.4 s, the outputs alike to the eye.
 
     References
     ----------
@@ -694,7 +698,7 @@ def lattice_stride(shape) -> int:
     (1, 4)
     """
     s = 1
-    while -(-shape[0] // s) * -(-shape[1] // s) > TABLE_ROWS:
+    while -(-shape[0] // s) * -(-shape[1] // s) * (shape[2] + 1) > TABLE_ROWS * 4:
         s *= 2
     return s
 
