@@ -350,8 +350,9 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
 def _reads_joints(job: Job) -> bool:
     """Whether the job's method measures the photo's joints (``joint_width`` 0, its default),
     which its predictions need the photo's pixels to count."""
-    if job.operation not in ("synthesize", "material"):
-        return False
+    if job.operation not in ("synthesize", "material") or (
+            job.operation == "material" and dict(job.params).get("size") is None):
+        return False  # a material without a size is made tileable: no joints read
     try:
         method = get_method(job.method or material.METHOD)
     except ValueError:
