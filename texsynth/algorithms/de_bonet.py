@@ -659,7 +659,7 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
         # too thin for a pyramid (a side under 8): the "coarsest level" is an exemplar crop,
         # whose wrap is a jump; its periodic component (Moisan) tiles
         out = periodic_component(out)
-    return np.clip(out, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)))
+    return np.clip(out, exemplar.min(axis=(0, 1)), exemplar.max(axis=(0, 1)), out=out)
 
 
 def _indexed(shape, levels: int) -> list[int]:

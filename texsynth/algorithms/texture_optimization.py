@@ -213,15 +213,18 @@ COARSE = 2
 #: (p_min / p)^2 of p_min's points), STEP_PIXEL s a pixel, both times (pixels / FIT_PIXELS)^0.12
 #: as in the time's model, and STEP_FIXED s; the copies' alignment ALIGN_FIXED + ALIGN_PIXEL s
 #: a pixel, its own span (it had been reported at the step's end: no progress for 2-3 % of the
-#: time).
-STEP_PATCH, STEP_PIXEL, STEP_FIXED = 1.3e-6, 1.13e-6, 0.0057
+#: time). Refitted with 128 -> 512 (issue 40: relative least squares on the CPU medians of 2
+#: runs each of 128 -> 256, 256 -> 512, 128 -> 512, scaled to the former's seconds: 20 steps
+#: within 0.79-1.29 of their median, the former 0.41-0.87 of theirs, at 90 % of 128 -> 512
+#: read 0.41; the alignment had been given a third of its time).
+STEP_PATCH, STEP_PIXEL, STEP_FIXED = 1.9e-6, 1.0e-6, 0.003
 #: Within a step, in its EM iterations' time: the search table's build before the first
 #: (BUILD) and the final pass after the last (FINAL). CPU medians of 3 at 128 -> 256 and
 #: 256 -> 512, the finest two levels: the build and first iteration 0.44-0.56 of a 3-iteration
 #: step, the last two 0.20-0.26 each, the final pass 0.03-0.09; equal thirds and the final pass
 #: at the step's end had told the first third too fast and the end too slow (0.75 at 90 %).
 BUILD, FINAL = 1.0, 0.25
-ALIGN_FIXED, ALIGN_PIXEL = 0.008, 1.1e-6
+ALIGN_FIXED, ALIGN_PIXEL = 0.004, 4.6e-6
 #: The joints' measure and the courses' period before the levels, in the same seconds:
 #: SETUP_FIXED + SETUP_PIXEL an exemplar pixel, at most SETUP_MAX (it samples a large photo;
 #: CPU medians of 3 on the brick 128^2, 256^2: 0.020, 0.063 s; the gravel 128^2 to 2048^2:

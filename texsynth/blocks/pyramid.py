@@ -433,10 +433,12 @@ class LaplacianPyramid:
         levels = levels[len(levels) - (self.scales + 1 - level):]
         spectrum = fft.rfft2(levels[-1])
         for j in reversed(range(level, self.scales)):
-            parent, child = self.level_shapes[j], self.level_shapes[j + 1]
-            up = np.zeros((parent[0], parent[1] // 2 + 1), np.complex64)
-            up[self.crop_rows[j], : child[1] // 2 + 1] = spectrum / self._ratio(j)
-            spectrum = up + fft.rfft2(levels[j - level])
+            # the coarser spectrum zero-padded and added, in place: no padded copy and sum at
+            # the finest size (issue 40: a 2048^2 output's collapse touched 2.5x its share)
+            child = self.level_shapes[j + 1]
+            finer = fft.rfft2(levels[j - level])
+            finer[self.crop_rows[j], : child[1] // 2 + 1] += spectrum / self._ratio(j)
+            spectrum = finer
         return fft.irfft2(spectrum, self.level_shapes[level])
 
 
