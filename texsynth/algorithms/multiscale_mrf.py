@@ -243,6 +243,7 @@ from ..blocks import feature_distance, joint_repair, multigrid, region_shift
 from ..blocks.joints import luma
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
+from ..blocks.rhythm import bond, course_period
 from ..blocks.search import Rows, Scratch, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
@@ -290,6 +291,9 @@ ALIGN_PIXELS = 256 * 256
 #: joint half widths) holds one of the photo's own dead ends, per unit of neighbour weight, in
 #: units of D (the maximal difference: an outside neighbour's cost).
 DEAD_END_COST, DEAD_END_MARGIN = 0.003, 2.0
+#: Where the courses have a lattice (``texsynth.blocks.rhythm.bond``), the aligned levels whose
+#: course period spans at least this many grid steps lock their copies into its phase.
+LOCK_STEPS, LOCK_FINEST = 2, 0
 #: Rounds of single region moves per level after the walk.
 SWEEPS = 1
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -491,17 +495,20 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     joints = feature_distance.fit(exemplar, joint_width, feature_weight)
     work = exemplar if joints is None else feature_distance.augment(exemplar, joint_width,
                                                                     feature_weight, joints)
+    period = None if joints is None else course_period(exemplar)
+    found = None if period is None else bond(exemplar, period)
     out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
                                  random_candidates, levels, exemplar_tiles,
                                  1 if work is exemplar else COARSE_FACTOR,
-                                 None if work is exemplar else (luma(exemplar), joints))
+                                 None if work is exemplar else (luma(exemplar), joints),
+                                 None if found is None else (period, *found))
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
 def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_candidates,
-                levels, exemplar_tiles, factor=1, repair=None):
+                levels, exemplar_tiles, factor=1, repair=None, lattice=None):
     h, w, c = exemplar.shape
     if min(h, w) < 2 * radius + 1:
         raise ValueError(f"the exemplar ({w} x {h}) is smaller than the neighbourhood "
@@ -571,6 +578,9 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
         split = aligning / max(aligning + repairing, 1e-12)  # the settling's share: aligning
         if lv in aligned and not level.windows:
             source = _align(level, source, radius, lambda f: tick(split * f))
+        if (lattice is not None and LOCK_STEPS * 2 ** lv <= lattice[0] and lv >= LOCK_FINEST
+                and level.stride == 1 and not level.windows):
+            source = _lock(level, source, repair[0], lattice)
         if repair is not None and lv in REPAIR_LEVELS:
             source = _repair(level, source, lv, visits_of(lv), (height, width), repair,
                              REPAIR_REACH * radius * 2 ** lv, exemplar_tiles, rng,
@@ -595,6 +605,15 @@ def _align(level, source, radius, tick):
     moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
                                        walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
+
+
+def _lock(level, source, photo, lattice):
+    """The level's copies moved into one phase of the courses' ``lattice``, the phase broken
+    once where the output's size asks it (``region_shift.lock_lattice``)."""
+    w = level.width
+    positions = np.stack(np.divmod(source, w), axis=2)
+    moved = region_shift.lock_lattice(photo, positions, lattice, level.step)
+    return (moved[:, :, 0] * w + moved[:, :, 1]).astype(np.int32)
 
 
 def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):
