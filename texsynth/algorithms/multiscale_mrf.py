@@ -291,9 +291,14 @@ ALIGN_PIXELS = 256 * 256
 #: joint half widths) holds one of the photo's own dead ends, per unit of neighbour weight, in
 #: units of D (the maximal difference: an outside neighbour's cost).
 DEAD_END_COST, DEAD_END_MARGIN = 0.003, 2.0
-#: Where the courses have a lattice (``texsynth.blocks.rhythm.bond``), the aligned levels whose
-#: course period spans at least this many grid steps lock their copies into its phase.
-LOCK_STEPS, LOCK_FINEST = 2, 0
+#: Where the courses have a lattice (``texsynth.blocks.rhythm.bond``), the levels from the second
+#: finest up whose course period spans at least this many grid steps lock their copies into its
+#: phase (``region_shift.lock_lattice``; on the finest too: the wall's picture alike, 0.8 s more).
+LOCK_STEPS, LOCK_FINEST = 2, 1
+#: The least correlation of the photo with itself shifted by a period vector of its lattice for
+#: the lock (the generated wall 0.46, 0.42; the pavers' 512 crop 0.25, 0.24, whose output
+#: locked repeated itself: repeat peak 0.74, photo 0.24).
+LOCK_REPEAT = 0.35
 #: Rounds of single region moves per level after the walk.
 SWEEPS = 1
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -495,13 +500,11 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     joints = feature_distance.fit(exemplar, joint_width, feature_weight)
     work = exemplar if joints is None else feature_distance.augment(exemplar, joint_width,
                                                                     feature_weight, joints)
-    period = None if joints is None else course_period(exemplar)
-    found = None if period is None else bond(exemplar, period)
     out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
                                  random_candidates, levels, exemplar_tiles,
                                  1 if work is exemplar else COARSE_FACTOR,
                                  None if work is exemplar else (luma(exemplar), joints),
-                                 None if found is None else (period, *found))
+                                 None if joints is None else _lattice(exemplar))
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
@@ -605,6 +608,24 @@ def _align(level, source, radius, tick):
     moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
                                        walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
+
+
+def _lattice(photo):
+    """The courses' lattice (P, Q, s) of ``photo`` (``rhythm.course_period`` and ``bond``) where
+    its luminance correlates with itself shifted by each period vector, (P, s) and (0, Q), at
+    least ``LOCK_REPEAT``; else None."""
+    period = course_period(photo)
+    found = None if period is None else bond(photo, period)
+    if found is None:
+        return None
+    z = luma(photo).astype(np.float64)
+    h, w = z.shape
+    for dy, dx in ((period, found[1]), (0, found[0])):
+        a, b = z[:h - dy, :w - dx], z[dy:, dx:]
+        a, b = a - a.mean(), b - b.mean()
+        if (a * b).mean() < LOCK_REPEAT * np.sqrt((a * a).mean() * (b * b).mean()):
+            return None
+    return period, *found
 
 
 def _lock(level, source, photo, lattice):
