@@ -28,6 +28,11 @@ where the copies' courses met over a quarter course apart (read on the photo's b
 (0.17 with one sweep); its course steps (``texsynth.metrics.course_steps``) 0.071, 0.065,
 0.052, 0.043 (0.049).
 
+Where the copies' phase is that of a lattice (courses laid to a gauge), ``lock_lattice`` moves
+every copy into one phase of it at once, the phase broken along one straight row where the
+output's height is no whole number of courses (the walk and sweeps, local, left that break a
+patch of half courses on the generated wall of ``benchmarks.sections.elements``).
+
 Deviations, one line each:
 - greedy region moves, not alpha-expansion: in a sweep every region takes its best ``delta``,
   and only regions whose gain beats every moving neighbour's move (no two neighbours at once);
