@@ -208,7 +208,11 @@ the wall's repair 3 of 14.6 s under the profiler, the second round (a full-resol
 and skeleton more per level, its holes fewer) about 1.1x the run. Tried and left out: three
 rounds, flagstones 1.09, 0.99, 1.72, 1.09, 1.35, 1.52; level 1 repaired too (one round) 1.10,
 1.73, 1.24, 1.19, 1.70, 1.19; ``DEAD_END_MARGIN`` 3 (one round) 1.32, 1.36, 1.57, 1.17, 1.10,
-0.71.
+0.71; no second round where its holes cover over half the grid (the wall's level 4: 97 %, its
+second round 0.32 s): flagstones 1.04, 1.05, 1.45, 1.23, 1.09, 1.10 and 1.34, 1.28, 0.93, 1.51,
+0.85, 1.16 on seeds 6-11 (mean 1.17: the coarse level drawn anew is what mends them). CPU A/B
+against 2a84d3b (separate processes, seed 0, medians of 6 under load 2-3): the wall 4.62 ->
+5.78 s (1.25x; one round 1.10x), the pavers 6.06 -> 6.96 s (1.15x; one round 1.07x).
 
 Courses across the wrap (issue 41: the generated wall's output, 960 x 896, is 37 1/3 courses
 high, so going once around the torus its copies' course phase must break; aligned copy by copy,
