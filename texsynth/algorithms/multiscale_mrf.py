@@ -218,10 +218,11 @@ Courses across the wrap (issue 41: the generated wall's output, 960 x 896, is 37
 high, so going once around the torus its copies' course phase must break; aligned copy by copy,
 ``align_regions``' moves of a few steps, the break was a patch about 140 rows high of
 half-height bricks and head joints that stop, its ratio 1.16 on seed 0 though the eye saw it
-first). Where the photo's courses have a lattice that it repeats along (``_lattice``:
-``texsynth.blocks.rhythm``'s course period P and bond (Q, s), the photo correlating with itself
-shifted by (P, s) and by (0, Q) at least ``LOCK_REPEAT``), each level from ``LOCK_FINEST`` whose
-step is at most P / ``LOCK_STEPS`` (the wall: levels 1-3) moves its copies, after their
+first). Where the photo's courses have a lattice that it repeats along
+(``texsynth.blocks.rhythm.lattice``: its course period P and bond (Q, s), the photo correlating
+with itself shifted by (P, s) and by (0, Q) at least ``LOCK_REPEAT``), each level from
+``LOCK_FINEST`` whose step is at most P / ``LOCK_STEPS`` (the wall: levels 1-3) moves its
+copies, after their
 alignment, into one phase of the lattice, broken once along a straight row where the seam
 between the two phases costs least (``texsynth.blocks.region_shift.lock_lattice``): the break
 is a sliver course, no step, and 99.2 % of the wall's pixels (seed 0) share one phase (99.4 %
@@ -289,7 +290,7 @@ from ..blocks import feature_distance, joint_repair, multigrid, region_shift
 from ..blocks.joints import luma
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
-from ..blocks.rhythm import bond, course_period
+from ..blocks.rhythm import lattice
 from ..blocks.search import Rows, Scratch, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
@@ -550,7 +551,7 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
                                  random_candidates, levels, exemplar_tiles,
                                  1 if work is exemplar else COARSE_FACTOR,
                                  None if work is exemplar else (luma(exemplar), joints),
-                                 None if joints is None else _lattice(exemplar))
+                                 None if joints is None else lattice(exemplar, LOCK_REPEAT))
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
@@ -654,24 +655,6 @@ def _align(level, source, radius, tick):
     moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
                                        walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
-
-
-def _lattice(photo):
-    """The courses' lattice (P, Q, s) of ``photo`` (``rhythm.course_period`` and ``bond``) where
-    its luminance correlates with itself shifted by each period vector, (P, s) and (0, Q), at
-    least ``LOCK_REPEAT``; else None."""
-    period = course_period(photo)
-    found = None if period is None else bond(photo, period)
-    if found is None:
-        return None
-    z = luma(photo).astype(np.float64)
-    h, w = z.shape
-    for dy, dx in ((period, found[1]), (0, found[0])):
-        a, b = z[:h - dy, :w - dx], z[dy:, dx:]
-        a, b = a - a.mean(), b - b.mean()
-        if (a * b).mean() < LOCK_REPEAT * np.sqrt((a * a).mean() * (b * b).mean()):
-            return None
-    return period, *found
 
 
 def _lock(level, source, photo, lattice):
