@@ -42,6 +42,8 @@ def test_the_photos_own_dead_ends_are_copied_less(monkeypatch):
     from texsynth.blocks import feature_distance
     from texsynth.blocks.joints import luma
 
+    monkeypatch.setattr(mm, "LOCK_REPEAT", np.inf)  # the cost alone: copies not locked,
+    monkeypatch.setattr(mm, "REPAIR_ROUNDS", 1)  # one round of repair (two: 1.06 left free)
     wall = _wall()
     for r in (49, 97, 145):  # bed joints' middle rows
         for x in (40, 150):

@@ -4,7 +4,7 @@ a row off their neighbours line up, every region stays a verbatim copy inside th
 import numpy as np
 from test_texture_optimization import bricks
 
-from texsynth.blocks.region_shift import align_regions, regions
+from texsynth.blocks.region_shift import _coset, align_regions, lock_lattice, regions
 
 
 def _rows_carry_on(image, col):
@@ -74,3 +74,40 @@ def test_on_a_coarse_grid_copies_move_by_whole_steps():
     image = ex[out[:, :, 0], out[:, :, 1]]
     rows = image[:, [15, 16]].mean(axis=2) < 0.3  # mortar either side of the border
     assert np.array_equal(rows[:, 0], rows[:, 1])
+
+
+def _bond(shape=(96, 128)):
+    """A running bond: courses of 12 px, bricks of 32, each course shifted 16; joints 2 px."""
+    i, j = np.indices(shape)
+    return np.where((i % 12 < 2) | ((j + 16 * (i // 12)) % 32 < 2), 0.2, 0.8).astype(np.float32)
+
+
+def _phases(out, step=1):
+    i, j = np.indices(out.shape[:2])
+    return _coset(out[:, :, 0] - step * i, out[:, :, 1] - step * j, (12, 32, 16))
+
+
+def test_copies_lock_into_one_phase_broken_once_along_a_row():
+    """40 rows (3 1/3 courses) around the torus: one copy carried across the wrap, another 5
+    rows and 7 columns off. After the lock every row is in one phase, two phases in all, the
+    break one straight row; positions stay inside the exemplar."""
+    z = _bond()
+    i, j = np.indices((40, 64))
+    off = (j >= 20) & (j < 44)
+    pos = np.stack([(i + 30) % 40 + 20 + 5 * off, j + 30 + 7 * off], axis=2)  # wraps at row 10
+    out = lock_lattice(z, pos, (12, 32, 16))
+    phase = _phases(out)
+    assert len(np.unique(phase)) == 2 and (phase == phase[:, :1]).all()
+    assert (np.diff(phase[:, 0]) != 0).sum() == 1  # one break (the other is the wrap's own)
+    assert out.min() >= 0 and out[:, :, 0].max() < 96 and out[:, :, 1].max() < 128
+
+
+def test_whole_courses_lock_without_a_break_on_a_coarse_grid():
+    """48 rows (4 courses) on a grid of step 2: one phase, moves keep the copies whole."""
+    z = _bond()
+    i, j = np.indices((24, 32))
+    off = j >= 16
+    pos = np.stack([2 * i + 10 + 3 * off, 2 * j + 20 + 6 * off], axis=2)
+    out = lock_lattice(z, pos, (12, 32, 16), step=2)
+    assert len(np.unique(_phases(out, 2))) == 1
+    assert regions(out, 2)[0] <= regions(pos, 2)[0]

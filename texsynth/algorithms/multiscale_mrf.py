@@ -194,6 +194,50 @@ levels 0-1 only, wall 1.31, 1.29, 1.29. Tried before it and left out: the alignm
 (``align_regions``) on levels 1 and 0 too, moves of one step: the wall 1.41, 1.32, 1.35 (CPU
 1.4x); on level 1 alone, moves of two steps (one): 1.37, 1.32, 1.36 (1.40, 1.31, 1.31).
 
+Two rounds of the joint repair (``REPAIR_ROUNDS``; issue 41, the flagstones over the goal on
+the wrap-fixed skeleton). Dead-end ratio, each photo to twice its size, seeds 0-5, one round /
+two: flagstones 1.35, 1.18, 1.37, 1.48, 1.60, 1.19 / 0.93, 0.71, 1.06, 1.12, 1.29, 1.06, held
+out seeds 6-11 1.31, 1.25, 1.26, 1.89, 1.01, 1.22 / 0.96, 0.78, 0.79, 1.38, 0.90, 1.28 (mean
+1.34 / 1.02 over the 12 seeds; the photo's 6 dead ends leave a seed about 20 % of noise);
+pavers 0.89, 0.87, 0.83, 0.92, 1.07, 0.96 / 0.78, 0.67, 0.90, 1.00, 0.96, 0.90; the generated
+wall (locked, below) 1.05, 0.99, 0.96, 0.87, 1.04, 1.03 / 1.02, 0.87, 0.91, 0.81, 1.02, 1.09;
+two rounds: ashlar 0.88, 0.70, 0.86, 0.71, 0.86, 0.87, brick wall 0.82, 0.72, 0.71, 0.78,
+0.78, 0.84, setts 0.60, 0.74, 0.57, 0.77, 0.69, 0.73. Gradient ratio: flagstones 0.96-1.01 /
+0.95-0.99, the rest within 0.01; repeat peak within 0.02 (flagstones 0.23, photo 0.21). CPU:
+the wall's repair 3 of 14.6 s under the profiler, the second round (a full-resolution render
+and skeleton more per level, its holes fewer) about 1.1x the run. Tried and left out: three
+rounds, flagstones 1.09, 0.99, 1.72, 1.09, 1.35, 1.52; level 1 repaired too (one round) 1.10,
+1.73, 1.24, 1.19, 1.70, 1.19; ``DEAD_END_MARGIN`` 3 (one round) 1.32, 1.36, 1.57, 1.17, 1.10,
+0.71; no second round where its holes cover over half the grid (the wall's level 4: 97 %, its
+second round 0.32 s): flagstones 1.04, 1.05, 1.45, 1.23, 1.09, 1.10 and 1.34, 1.28, 0.93, 1.51,
+0.85, 1.16 on seeds 6-11 (mean 1.17: the coarse level drawn anew is what mends them). CPU A/B
+against 2a84d3b (separate processes, seed 0, medians of 6 under load 2-3): the wall 4.62 ->
+5.78 s (1.25x; one round 1.10x), the pavers 6.06 -> 6.96 s (1.15x; one round 1.07x).
+
+Courses across the wrap (issue 41: the generated wall's output, 960 x 896, is 37 1/3 courses
+high, so going once around the torus its copies' course phase must break; aligned copy by copy,
+``align_regions``' moves of a few steps, the break was a patch about 140 rows high of
+half-height bricks and head joints that stop, its ratio 1.16 on seed 0 though the eye saw it
+first). Where the photo's courses have a lattice that it repeats along
+(``texsynth.blocks.rhythm.lattice``: its course period P and bond (Q, s), the photo correlating
+with itself shifted by (P, s) and by (0, Q) at least ``LOCK_REPEAT``), each level from
+``LOCK_FINEST`` whose step is at most P / ``LOCK_STEPS`` (the wall: levels 1-3) moves its
+copies, after their
+alignment, into one phase of the lattice, broken once along a straight row where the seam
+between the two phases costs least (``texsynth.blocks.region_shift.lock_lattice``): the break
+is a sliver course, no step, and 99.2 % of the wall's pixels (seed 0) share one phase (99.4 %
+with level 0 locked too, 0.8 s more; a copy carried across the wrap moved as one piece, 93 %,
+the break grown by the finer levels into a blob 120 rows high). Dead-end ratio, the generated
+wall to twice its size, seeds 0-5, before / after: 1.16, 1.06, 0.97, 0.97, 1.17, 1.17 / 1.05,
+0.99, 0.96, 0.87, 1.04, 1.03; gradient ratio 1.02-1.04 / 1.02-1.03; repeat peak 0.47 / 0.57
+(photo 0.55); CPU 5.4 / 5.1 s. No other photo of the benchmark has such a lattice (the brick
+wall's bond is not found; the pavers' 512 crop correlates 0.25 and 0.24 along its lattice's
+vectors, the wall 0.46 and 0.42): locked, the pavers read 0.48, 0.48, 0.53, 0.80, 0.49, 0.52
+(from 0.89, 0.87, 0.83, 0.92, 1.07, 0.96), whole pavers in a perfect lattice, but their repeat
+peak 0.74 (photo 0.24), so they are left as they were, bit for bit. The phase's break placed
+within a quarter of the seam costs' range of the least (not ``BREAK_SLACK``): a course whose
+upper half is the next course's (head joints off), the wall's seed 0 1.13.
+
 Periodic output: output neighbourhoods wrap around the canvas, so the result tiles. Colour:
 channels are compared jointly and positions copy whole pixels.
 
@@ -219,6 +263,9 @@ Deviations, one line each (and those of ``texsynth.blocks.multigrid``):
 - where there are joints the coarsest levels get more visits and random candidates than T;
 - (ours) where there are joints, levels ``REPAIR_LEVELS`` relax again around the joints that
   stop at a seam (``joint_repair``);
+- (ours) where the courses have a lattice the photo repeats along, the levels from
+  ``LOCK_FINEST`` of step at most P / ``LOCK_STEPS`` lock their copies into one phase of it,
+  broken once (``region_shift.lock_lattice``);
 - (ours) where there are joints, a candidate copying one of the photo's dead ends costs
   ``DEAD_END_COST`` D more per unit of weight (table levels only, not the windows');
 - (ours, not in Neubeck et al. or Paget & Longstaff) after each level but the coarsest (its
@@ -243,6 +290,7 @@ from ..blocks import feature_distance, joint_repair, multigrid, region_shift
 from ..blocks.joints import luma
 from ..blocks.multigrid import grid_shapes, level_count
 from ..blocks.period import texel_size
+from ..blocks.rhythm import lattice
 from ..blocks.search import Rows, Scratch, WindowRows, best_candidate, disk_offsets, neighbour_table
 from ..registry import Method, Param, register
 
@@ -291,6 +339,14 @@ ALIGN_PIXELS = 256 * 256
 #: joint half widths) holds one of the photo's own dead ends, per unit of neighbour weight, in
 #: units of D (the maximal difference: an outside neighbour's cost).
 DEAD_END_COST, DEAD_END_MARGIN = 0.003, 2.0
+#: Where the courses have a lattice (``texsynth.blocks.rhythm.bond``), the levels from the second
+#: finest up whose course period spans at least this many grid steps lock their copies into its
+#: phase (``region_shift.lock_lattice``; on the finest too: the wall's picture alike, 0.8 s more).
+LOCK_STEPS, LOCK_FINEST = 2, 1
+#: The least correlation of the photo with itself shifted by a period vector of its lattice for
+#: the lock (the generated wall 0.46, 0.42; the pavers' 512 crop 0.25, 0.24, whose output
+#: locked repeated itself: repeat peak 0.74, photo 0.24).
+LOCK_REPEAT = 0.35
 #: Rounds of single region moves per level after the walk.
 SWEEPS = 1
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
@@ -301,7 +357,7 @@ COARSE_LEVELS, COARSE_FACTOR, COARSE_PIXELS = 3, 4, 64 * 64
 #: Where there are joints, the finest levels whose dead ends at seams are synthesized again
 #: (``joint_repair``), the rounds of it, and the reach of a hole (the level's neighbourhood
 #: radii, r 2^l pixels).
-REPAIR_LEVELS, REPAIR_ROUNDS, REPAIR_REACH = range(2, 5), 1, 1.5
+REPAIR_LEVELS, REPAIR_ROUNDS, REPAIR_REACH = range(2, 5), 2, 1.5
 #: A repaired level's seconds: per output pixel (its map rendered and read at full resolution)
 #: and a share of the level's visits (the holes relaxed again).
 REPAIR_PIXEL_COST, REPAIR_SHARE = 5e-7, 0.5  # fitted on bricks 128 -> 256, pavers 512 -> 1024
@@ -500,14 +556,15 @@ def multiscale_mrf(exemplar, width, height, rng, progress, radius=3, visits=4,
     out, positions = _synthesize(work, width, height, rng, progress, radius, visits,
                                  random_candidates, levels, exemplar_tiles,
                                  1 if work is exemplar else COARSE_FACTOR,
-                                 None if work is exemplar else (luma(exemplar), joints))
+                                 None if work is exemplar else (luma(exemplar), joints),
+                                 None if joints is None else lattice(exemplar, LOCK_REPEAT))
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
 
 
 def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_candidates,
-                levels, exemplar_tiles, factor=1, repair=None):
+                levels, exemplar_tiles, factor=1, repair=None, lattice=None):
     h, w, c = exemplar.shape
     if min(h, w) < 2 * radius + 1:
         raise ValueError(f"the exemplar ({w} x {h}) is smaller than the neighbourhood "
@@ -577,6 +634,9 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
         split = aligning / max(aligning + repairing, 1e-12)  # the settling's share: aligning
         if lv in aligned and not level.windows:
             source = _align(level, source, radius, lambda f: tick(split * f))
+        if (lattice is not None and LOCK_STEPS * 2 ** lv <= lattice[0] and lv >= LOCK_FINEST
+                and level.stride == 1 and not level.windows):
+            source = _lock(level, source, repair[0], lattice)
         if repair is not None and lv in REPAIR_LEVELS:
             source = _repair(level, source, lv, visits_of(lv), (height, width), repair,
                              REPAIR_REACH * radius * 2 ** lv, exemplar_tiles, rng,
@@ -601,6 +661,15 @@ def _align(level, source, radius, tick):
     moved = region_shift.align_regions(z, positions, SHIFT, SWEEPS, tick, level.step,
                                        walk=True, reach=radius)
     return level._to_exemplar(moved[:, :, 0] * lw + moved[:, :, 1]).astype(np.int32)
+
+
+def _lock(level, source, photo, lattice):
+    """The level's copies moved into one phase of the courses' ``lattice``, the phase broken
+    once where the output's size asks it (``region_shift.lock_lattice``)."""
+    w = level.width
+    positions = np.stack(np.divmod(source, w), axis=2)
+    moved = region_shift.lock_lattice(photo, positions, lattice, level.step)
+    return (moved[:, :, 0] * w + moved[:, :, 1]).astype(np.int32)
 
 
 def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):

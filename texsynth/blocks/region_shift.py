@@ -28,6 +28,11 @@ where the copies' courses met over a quarter course apart (read on the photo's b
 (0.17 with one sweep); its course steps (``texsynth.metrics.course_steps``) 0.071, 0.065,
 0.052, 0.043 (0.049).
 
+Where the copies' phase is that of a lattice (courses laid to a gauge), ``lock_lattice`` moves
+every copy into one phase of it at once, the phase broken along one straight row where the
+output's height is no whole number of courses (the walk and sweeps, local, left that break a
+patch of half courses on the generated wall of ``benchmarks.sections.elements``).
+
 Deviations, one line each:
 - greedy region moves, not alpha-expansion: in a sweep every region takes its best ``delta``,
   and only regions whose gain beats every moving neighbour's move (no two neighbours at once);
@@ -46,9 +51,12 @@ from scipy.sparse.csgraph import connected_components, shortest_path
 
 from .search import disk_offsets
 
-__all__ = ["align_regions", "regions"]
+__all__ = ["align_regions", "lock_lattice", "regions"]
 
 
+#: The break of ``lock_lattice`` goes where the seam costs at most this share of the costs'
+#: range over the least (0.25: breaks along a course, its upper half the next course's).
+BREAK_SLACK = 0.05
 #: Pixel-delta pairs whose seam costs are taken at once (bounds the temporaries: 3 MB for RGB).
 CHUNK = 1 << 18
 
@@ -282,3 +290,123 @@ def align_regions(z: np.ndarray, positions: np.ndarray, radius: int = 3,
         shift = np.asarray(deltas, np.int32)[np.where(move, best, still)]
         positions += shift[label]
     return positions
+
+
+def _coset(y, x, lattice):
+    """The phase of the shifts (y, x) modulo the lattice ``(P, Q, s)`` (basis (P, s), (0, Q)),
+    as one index ``y' Q + x'`` of its representative ``0 <= y' < P``, ``0 <= x' < Q``."""
+    period, along, shift = lattice
+    a = np.floor_divide(y, period)
+    return (y - a * period) * along + np.mod(x - a * shift, along)
+
+
+def _break(vy, vx, axis, size, cell, lattice, step):
+    """The line (row for ``axis`` 0, column for 1) before which the shifts (vy, vx) take the
+    phase c0 + the wrap, and c0: where the seam between the phases costs least (within a
+    ``BREAK_SLACK`` of the costs' range), of those where the most grid points keep their phase."""
+    period, along, _ = lattice
+    n = period * along
+    wrap = (size, 0) if axis == 0 else (0, size)
+    sides = [_coset(vy, vx, lattice), _coset(vy - wrap[0], vx - wrap[1], lattice)]
+    hist = [np.stack([np.bincount(line, minlength=n) for line in np.moveaxis(s, axis, 0)])
+            for s in sides]  # (lines, n) each: the phases on each line, without and with it
+    zero = np.zeros((1, n))
+    count = (np.concatenate([zero, np.cumsum(hist[1], 0)])
+             + np.concatenate([np.cumsum(hist[0][::-1], 0)[::-1], zero]))[:-1]
+    c0 = count.argmax(axis=1)
+    cy, cx = np.divmod(c0, along)
+    line = step * np.arange(len(c0))[:, None]
+    run = np.arange(along if axis == 0 else period)[None, :]  # across one lattice cell
+    seam = 0.0
+    for back in (1, 0):  # the pixels either side of the break
+        y, x = (line - back, run) if axis == 0 else (run, line - back)
+        below, above = _coset(y + cy[:, None], x + cx[:, None], lattice), \
+            _coset(y + cy[:, None] + wrap[0], x + cx[:, None] + wrap[1], lattice)
+        seam = seam + ((cell[below] - cell[above]) ** 2).sum(axis=1)
+    good = seam <= seam.min() + BREAK_SLACK * (seam.max() - seam.min())
+    best = int(np.argmax(np.where(good, count.max(axis=1), -1)))
+    return best, wrap
+
+
+def lock_lattice(luma: np.ndarray, positions: np.ndarray, lattice: tuple[int, int, int],
+                 step: int = 1) -> np.ndarray:
+    """Move every copy of a position map into one phase of the elements' lattice, with one
+    break where the output's size is not a whole number of lattice periods; returns new
+    positions (H, W, 2) into ``luma`` (h, w).
+
+    A copy's shift (exemplar position minus output position) modulo the lattice of the courses
+    (``lattice`` = (P, Q, s): courses P apart, elements Q apart along a course, each course
+    shifted s, as ``texsynth.blocks.rhythm.bond`` reads it; Liu, Collins & Tsin 2004's two
+    period vectors) is its phase: copies in one phase show the courses in line. A copy carried
+    once around the output's torus (H = ``step`` times its rows) changes phase by (H, 0) modulo
+    the lattice, nonzero when H is no whole number of periods: the phase must break once. It
+    breaks along one row (and one column, for the width): the rows above take the phase
+    c0 + (H, 0), those below c0, the phase the most grid points already have; the row is where
+    the seam between the two phases costs least (Kwatra et al. 2003, 3.1's seam cost, on the
+    photo folded onto one lattice cell: a break inside a course makes it taller, one across a
+    bed joint a sliver) and, of the rows within ``BREAK_SLACK`` of the costs' range of that, where
+    the most grid points keep their phase. Each copy (split at the break) then moves by the
+    shortest vector into its phase that keeps it inside the exemplar (a copy that fits nowhere
+    stays).
+
+    Parameters
+    ----------
+    luma : (h, w) float32 exemplar luminance (the seam cost's values).
+    positions : (H, W, 2) int exemplar row and column of each grid point (the output wraps).
+    lattice : (P, Q, s) the courses' period down the rows, the elements' along a course, and
+        the shift from one course to the next (``0 <= s < Q``).
+    step : exemplar pixels between neighbouring grid points (a coarse grid's 2^l).
+
+    References
+    ----------
+    Liu, Collins & Tsin 2004, "A computational model for periodic pattern perception based on
+    frieze and wallpaper groups" (the lattice); Pritch, Kav-Venaki & Peleg 2009, 3 (labels are
+    shifts); Kwatra, Schoedl, Essa, Turk & Bobick 2003, 3.1 (the seam cost).
+
+    Examples
+    --------
+    >>> i, j = np.indices((48, 64))
+    >>> z = ((i % 8 == 0) | ((j + 8 * (i // 8)) % 16 == 0)).astype(np.float32)  # running bond
+    >>> i, j = np.indices((20, 32))  # 20 rows: two and a half courses
+    >>> pos = np.stack([i + 3 * (j >= 16) + 4, j + 8], axis=2)  # right half 3 rows off
+    >>> out = lock_lattice(z, pos, (8, 16, 8))
+    >>> phase = _coset(out[:, :, 0] - i, out[:, :, 1] - j, (8, 16, 8))
+    >>> len(np.unique(phase)), bool((phase == phase[:, :1]).all())  # one break, along a row
+    (2, True)
+    """
+    period, along, _ = lattice
+    gh, gw = positions.shape[:2]
+    i, j = np.indices((gh, gw))
+    vy, vx = positions[:, :, 0] - step * i, positions[:, :, 1] - step * j
+    h, w = luma.shape
+    fold = _coset(*np.indices((h, w)), lattice).ravel()
+    cell = (np.bincount(fold, luma.ravel(), period * along)
+            / np.maximum(np.bincount(fold, minlength=period * along), 1))
+    ty, tx = vy.copy(), vx.copy()  # the shifts less the breaks' wraps
+    part = np.zeros((gh, gw), np.int64)  # which side of each break
+    for axis, size in ((0, step * gh), (1, step * gw)):
+        if _coset(size * (axis == 0), size * (axis == 1), lattice) == 0:
+            continue  # whole periods: no break
+        best, wrap = _break(ty, tx, axis, size, cell, lattice, step)
+        side = (i if axis == 0 else j) < best
+        ty, tx = ty - wrap[0] * side, tx - wrap[1] * side
+        part = 2 * part + side
+    c0y, c0x = np.divmod(np.bincount(_coset(ty, tx, lattice).ravel()).argmax(), along)
+    uy, ux = np.divmod(_coset(c0y - ty, c0x - tx, lattice), along)  # into c0, modulo the lattice
+    _, label = regions(positions, step)
+    key = (label.astype(np.int64) * 4 + part) * (period * along) + uy * along + ux  # a copy
+    segment = np.unique(key, return_inverse=True)[1].reshape(gh, gw)  # carried across the wrap
+    first = np.unique(segment.ravel(), return_index=True)[1]
+    reps = [(a, b) for a in range(-2, 2) for b in range(-2, 2)]  # u + a (P, s) + b (0, Q)
+    cost = np.empty((len(reps), len(first)))
+    for k, (a, b) in enumerate(reps):
+        dy, dx = uy + a * period, ux + a * lattice[2] + b * along
+        y, x = positions[:, :, 0] + dy, positions[:, :, 1] + dx
+        out = np.bincount(segment.ravel(), ((y < 0) | (y >= h) | (x < 0) | (x >= w)).ravel())
+        cost[k] = np.where(out > 0, np.inf, (dy ** 2 + dx ** 2).ravel()[first])
+    pick = cost.argmin(axis=0)
+    a, b = np.array(reps)[pick].T
+    stays = np.isinf(cost.min(axis=0))
+    dy = np.where(stays, 0, uy.ravel()[first] + a * period)
+    dx = np.where(stays, 0, ux.ravel()[first] + a * lattice[2] + b * along)
+    return positions + np.stack([dy[segment], dx[segment]], axis=2).astype(positions.dtype)

@@ -55,7 +55,7 @@ from scipy import ndimage
 
 from .joints import luma
 
-__all__ = ["course_period", "course_phase", "bond"]
+__all__ = ["course_period", "course_phase", "bond", "lattice"]
 
 #: Least repeat strength (correlation at the period and at twice it) of a rhythm: smooth noise
 #: (8 seeds) and the shared large stochastic photos (rock, asphalt, grass, dirt, layered rock)
@@ -230,3 +230,36 @@ def bond(image: np.ndarray, period: int | None) -> tuple[int, int] | None:
         if len(at) == 0 or twice[at].max() < BOND_COURSE:
             return None
     return q, int(lags[s]) % q
+
+
+def lattice(image: np.ndarray, repeat: float) -> tuple[int, int, int] | None:
+    """The courses' lattice ``(P, Q, s)`` of ``image`` (H, W[, C]): :func:`course_period` P and
+    :func:`bond` (Q, s), where the luminance correlates with itself shifted by each period
+    vector, (P, s) and (0, Q), at least ``repeat`` (elements laid to a gauge); else ``None``.
+
+    References
+    ----------
+    Liu, Collins & Tsin 2004 (the lattice's two period vectors).
+
+    Examples
+    --------
+    >>> i, j = np.mgrid[:192, :256]
+    >>> wall = (i % 24 < 3) | ((j + 32 * (i // 24)) % 64 < 3)  # running bond
+    >>> wall = wall + np.random.default_rng(0).normal(0, 0.1, wall.shape)
+    >>> lattice(wall, 0.35)
+    (24, 64, 32)
+    >>> print(lattice(np.random.default_rng(0).random((192, 256)), 0.35))
+    None
+    """
+    period = course_period(image)
+    found = None if period is None else bond(image, period)
+    if found is None:
+        return None
+    z = luma(image).astype(np.float64)
+    h, w = z.shape
+    for dy, dx in ((period, found[1]), (0, found[0])):
+        a, b = z[:h - dy, :w - dx], z[dy:, dx:]
+        a, b = a - a.mean(), b - b.mean()
+        if (a * b).mean() < repeat * np.sqrt((a * a).mean() * (b * b).mean()):
+            return None
+    return period, *found
