@@ -870,8 +870,9 @@ def _level_costs(shape, width, height, params, factor=1,
         side, aspect = min(h, w) / 2 ** lv, max(gh, gw) / min(gh, gw)
         settle = ((SETTLE_COST + SETTLE_SIDE_COST / side) * (1 + aspect / SETTLE_ASPECT)
                   * aligned.get(lv, 0))
-        mending = (REPAIR_PIXEL_COST * width * height + REPAIR_SHARE * visits
-                   if repair and lv in REPAIR_LEVELS else 0.0)
+        repaired = repair and lv in REPAIR_LEVELS  # each round a rendering and its holes
+        mending = (REPAIR_ROUNDS * (REPAIR_PIXEL_COST * width * height + REPAIR_SHARE * visits)
+                   if repaired else 0.0)
         costs.append((visits + table + rounds, settle, mending))
     return costs
 
