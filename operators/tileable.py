@@ -59,7 +59,7 @@ class TEXSYNTH_OT_make_tileable(JobOperator, bpy.types.Operator):
                 in source.read_maps(context, src, followers=self.all_maps)]
         band, _ = texsynth.tileable.check(maps[0][1].shape, band=self.band or None,
                                           seed=self.seed)  # refused here, before the forecast
-        predicted, _ = texsynth.tileable.predict(maps[0][1].shape, band)
+        predicted, _ = texsynth.tileable.predict(maps[0][1].shape, band, photo=maps[0][1])
         job = Task(_tile_all, maps[0][1], [m[1] for m in maps[1:]], band=self.band or None,
                    seed=self.seed, predicted=predicted)
         return job, (src, maps)

@@ -177,26 +177,27 @@ def job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
     record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
-    return record | _predicted(kind, photo(key).shape, extra, record.get("factor"))
+    return record | _predicted(kind, photo(key), extra, record.get("factor"))
 
 
-def _predicted(kind: str, shape: tuple, extra: tuple, factor: float | None) -> dict:
-    """The library's predictions for a run: pure model calls, so a record kept from a run of
-    the same synthesis code is read with the models as they are now, at the machine factor
-    (speed and load) the run's own process read just before it (this process's when the record
-    has none)."""
-    from texsynth import budget, get_method, tileable
+def _predicted(kind: str, image: np.ndarray, extra: tuple, factor: float | None) -> dict:
+    """The library's predictions for a run, given the photo as the command line, batches and
+    operators give it (``budget.forecast`` counts the joints a method would measure,
+    ``tileable.predict`` checks whether it already tiles): model calls, so a record kept from a
+    run of the same synthesis code is read with the models as they are now, at the machine
+    factor (speed and load) the run's own process read just before it (this process's when the
+    record has none)."""
+    from texsynth import budget, tileable
 
     scale = 1.0 if factor is None else factor / budget.machine_factor()
     if kind == "tileable":
-        seconds, peak = tileable.predict(shape)
-        return {"predicted_s": seconds * scale, "predicted_bytes": peak}
-    if kind != "synth":
+        seconds, peak = tileable.predict(image.shape, photo=image)
+    elif kind == "synth":
+        side = int(extra[1])
+        seconds, peak = budget.forecast(extra[0], image.shape, side, side, exemplar=image)
+    else:
         return {}
-    method, side = get_method(extra[0]), int(extra[1])
-    values = method.resolve({})
-    return {"predicted_s": budget.predict(method, shape, side, side, values) * scale,
-            "predicted_bytes": float(method.memory(shape, side, side, values))}
+    return {"predicted_s": seconds * scale, "predicted_bytes": peak}
 
 
 class Goals:
