@@ -452,3 +452,27 @@ def test_a_cut_between_neighbours_passes_beside_a_head_joint_not_along_it():
     beside = min_error_path(_beside(e, patch, template, SimpleNamespace(period=24)))
     assert not set(beside) & {5, 6, 7}
     assert (_beside(e, patch, template, SimpleNamespace(period=None)) == e).all()
+
+
+def test_the_middle_cut_passes_a_head_joint_the_two_rows_hold_apart_along_the_bed_joint():
+    """Where the courses run on in phase across the wrap, the two rows of patches may hold a
+    course's head joints apart (the pavers' centre 512: 10 px): the middle cut passes beside
+    both, along the bed joint, and keeps one of them whole (by the colours alone it crossed
+    them, where the two rows' course agrees best); the grain's odd pixels, which ``_across``
+    finds too, bar nothing (``_runs``)."""
+    from texsynth.tileable import _across, _cut, _runs
+
+    rng = np.random.default_rng(0)
+    first, second = (0.5 + 0.02 * rng.standard_normal((2, 24, 96, 3))).astype(np.float32)
+    first[:13] += 0.1 * rng.standard_normal((13, 96, 3)).astype(np.float32)  # other stones
+    first[10:13] -= 0.4  # the bed joint, in line in both (its moss not)
+    second[10:13] -= 0.4
+    second[18:] = first[18:]  # the course below, alike in both but for its edge and ...
+    first[13:, 40:43] = second[13:, 50:53] = 0.4  # ... its head joint, 10 px apart
+    first[3, 70] = second[20, 20] = 0.95  # the grain's odd pixels
+    barred = _runs(_across(first) | _across(second), 6)
+    assert barred[13:, 40:43].all() and barred[13:, 50:53].all()
+    assert not barred[3, 70] and not barred[20, 20]
+    assert (_cut(first, second, 0, 24)[38:56] > 13).all()  # both joints' parts kept
+    rows = _cut(first, second, 0, 24, barred)  # the second's course at both: one joint
+    assert (rows[40:43] <= 13).all() and (rows[50:53] <= 13).all()
