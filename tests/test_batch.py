@@ -86,6 +86,7 @@ def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, error, 
     ("photo,mask\nphoto0.png,photo1.png\n", "list.csv:2: mask: only a material row"),
     ("photo,corners,operation\nphoto0.png,\"1,2,3,4,5,6,7,8\",tile\n",
      "list.csv:2: corners: only a material row"),
+    ("photo,band\nphoto0.png,0\n", "list.csv:2: band: a width in pixels of at least 1"),
 ])
 def test_a_manifest_value_that_would_be_ignored_is_refused(tmp_path, text, named):
     photos = _photos(tmp_path / "in", 2)

@@ -251,6 +251,8 @@ def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
                      else d.size)
     seed = _value(where, "seed", row["seed"], int) if row.get("seed") else d.seed
     band = _value(where, "band", row["band"], int) if row.get("band") else d.band
+    if band is not None and band < 1:  # checked here too: a row that only synthesizes ignores it
+        raise UsageError(f"{where}: band: a width in pixels of at least 1, got {band}")
     in_size = (_value(where, "in_size", row["in_size"], parse_in_size) if row.get("in_size")
                else d.in_size)
     params = dict(d.params)
