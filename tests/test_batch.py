@@ -79,6 +79,36 @@ def test_a_bad_manifest_row_is_named_before_anything_runs(tmp_path, row, error, 
     assert not (tmp_path / "out").exists()
 
 
+
+@pytest.mark.parametrize("text, named", [
+    ("photo,seed,seed\nphoto0.png,1,2\n", "list.csv:1: column 'seed' twice"),  # one ignored
+    ("photo,seed\n,1\n", "list.csv:2: photo: empty, in a row that gives seed"),  # not skipped
+    ("photo,mask\nphoto0.png,photo1.png\n", "list.csv:2: mask: only a material row"),
+    ("photo,corners,operation\nphoto0.png,\"1,2,3,4,5,6,7,8\",tile\n",
+     "list.csv:2: corners: only a material row"),
+    ("photo,band\nphoto0.png,0\n", "list.csv:2: band: a width in pixels of at least 1"),
+])
+def test_a_manifest_value_that_would_be_ignored_is_refused(tmp_path, text, named):
+    photos = _photos(tmp_path / "in", 2)
+    (photos / "list.csv").write_text(text)
+    with pytest.raises(UsageError, match=named):
+        batch.plan(photos / "list.csv", tmp_path / "out")
+    (photos / "list.csv").write_text("photo,seed\n,\nphoto0.png,1\n")  # a blank row: skipped
+    assert len(batch.plan(photos / "list.csv", tmp_path / "out")) == 1
+
+
+def test_a_photo_damaged_past_its_header_is_refused_before_any_work(tmp_path):
+    """multiscale_mrf reads each photo while planning (its joints): damage is named then, not
+    by a failed task after the cluster has started."""
+    photos = _photos(tmp_path / "in", 2)
+    data = (photos / "photo1.png").read_bytes()
+    (photos / "photo1.png").write_bytes(data[:len(data) // 2])
+    with pytest.raises(InputError, match="photo1.png: PNG is truncated"):
+        batch.plan(photos, tmp_path / "out", batch.Defaults(size=(SIZE, SIZE),
+                                                            method="multiscale_mrf"))
+    assert not (tmp_path / "out").exists()
+
+
 def _png_header(path, width, height):
     """A PNG whose header says width x height (RGB, 8 bits) over 64 bytes of pixels."""
     def chunk(kind, data):

@@ -224,6 +224,26 @@ def test_ctrl_c_closes_the_cluster_and_leaves_nothing_half_written(tmp_path):
     assert not _group(command.pid), _group(command.pid)  # no worker outlives the command
 
 
+
+def test_the_local_workers_never_take_a_terminals_ctrl_c_and_are_killed_on_one(tmp_path):
+    """Started with SIGINT blocked (a Ctrl+C while they import printed their tracebacks), and
+    killed when the batch is interrupted (closing waited for their running tasks)."""
+    starter = batch._Start(None, 1, tmp_path / "batch.log")
+    client = starter.client()
+    (pid,) = client.run(os.getpid).values()
+    blocked = int(next(line for line in Path(f"/proc/{pid}/status").read_text().splitlines()
+                       if line.startswith("SigBlk:")).split()[1], 16)
+    assert blocked & (1 << (signal.SIGINT - 1))
+    task = client.submit(time.sleep, 60)
+    deadline = time.monotonic() + 30
+    while not any(client.processing().values()) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    start = time.monotonic()
+    starter.close(interrupted=True)
+    assert time.monotonic() - start < 20 and task.status != "finished"
+    assert not Path(f"/proc/{pid}").exists()
+
+
 def _group(pgid):
     """The command lines of the processes still in process group ``pgid``."""
     found = []

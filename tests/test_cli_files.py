@@ -162,6 +162,21 @@ def test_an_unwritable_output_is_refused_before_the_work(tmp_path, capsys, monke
     _one_error_line(err, "/proc/x")
 
 
+
+@pytest.mark.parametrize("argv", [["-o", "o.png"], ["-o", "t.png", "--preview"]])
+def test_an_output_that_is_a_folder_is_refused_before_the_work(tmp_path, capsys, monkeypatch,
+                                                               argv):
+    """os.replace onto a folder failed after the work, with a line naming no file."""
+    write_png(tmp_path / "photo.png", ramp_photo((48, 48)))
+    folder = tmp_path / ("o.png" if argv[1] == "o.png" else "t_tiled.png")
+    folder.mkdir()
+    monkeypatch.setattr(jobs, "execute", lambda *a, **k: pytest.fail("the work ran"))
+    code, _, err = _run(capsys, "synthesize", tmp_path / "photo.png", "-o",
+                        tmp_path / argv[1], *argv[2:], *FAST)
+    assert code == 4
+    _one_error_line(err, f"{folder}: a folder of that name is there")
+
+
 def test_an_output_name_too_long_for_its_folder_is_refused_before_the_work(tmp_path, capsys,
                                                                          monkeypatch):
     write_png(tmp_path / "photo.png", ramp_photo((48, 48)))

@@ -35,6 +35,7 @@ manifest's folder.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import hashlib
 import heapq
@@ -42,6 +43,7 @@ import json
 import logging
 import math
 import os
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -192,6 +194,10 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
     reader = csv.DictReader(text.splitlines(), dialect=dialect)
     if not reader.fieldnames or "photo" not in [f.strip() for f in reader.fieldnames]:
         raise UsageError(f"{path}: a manifest needs a header row with a 'photo' column")
+    names = [f.strip() for f in reader.fieldnames if f.strip()]
+    twice = [f for f in dict.fromkeys(names) if names.count(f) > 1]
+    if twice:  # DictReader keeps the last cell of a column given twice: one value ignored
+        raise UsageError(f"{path}:1: column '{twice[0]}' twice; give each column once")
     unknown = [f.strip() for f in reader.fieldnames if f.strip() and f.strip() not in COLUMNS]
     if unknown:  # a misspelt column would be ignored, its values never used
         raise UsageError(f"{path}:1: unknown column '{unknown[0]}'; the columns are "
@@ -205,6 +211,10 @@ def _manifest_rows(path: Path) -> list[tuple[str, dict]]:
                              "a comma")
         row = {k.strip(): (v or "").strip() for k, v in row.items() if k}
         if not row.get("photo"):
+            given = [k for k, v in row.items() if v]
+            if given:  # a blank row is skipped; a row of values without its photo is a mistake
+                raise UsageError(f"{path}:{number}: photo: empty, in a row that gives "
+                                 f"{', '.join(given)}")
             continue
         row["photo"] = str(path.parent / row["photo"])
         if row.get("mask"):
@@ -232,11 +242,17 @@ def _jobs(where: str, row: dict, out_dir: Path, d: Defaults) -> list[Job]:
     photo = Path(row["photo"])
     maps = tuple(m for m in row.get("maps", "").split(";") if m)
     operations = (row["operation"],) if row.get("operation") else d.operations
+    for column in ("mask", "corners"):
+        if row.get(column) and "material" not in operations:  # it would be ignored
+            raise UsageError(f"{where}: {column}: only a material row takes it, not "
+                             f"{' or '.join(operations)}")
     method = row.get("method") or d.method
     width, height = (_value(where, "size", row["size"], parse_size) if row.get("size")
                      else d.size)
     seed = _value(where, "seed", row["seed"], int) if row.get("seed") else d.seed
     band = _value(where, "band", row["band"], int) if row.get("band") else d.band
+    if band is not None and band < 1:  # checked here too: a row that only synthesizes ignores it
+        raise UsageError(f"{where}: band: a width in pixels of at least 1, got {band}")
     in_size = (_value(where, "in_size", row["in_size"], parse_in_size) if row.get("in_size")
                else d.in_size)
     params = dict(d.params)
@@ -365,7 +381,7 @@ def run(jobs: list[Job], *, client=None, scheduler: str | None = None,
         ended = True
     finally:
         if starter is not None:
-            summary.overhead += starter.close()
+            summary.overhead += starter.close(interrupted=not ended)
         if logs is not None:
             _restore_logs(logs)
         # Interrupted: a local cluster's workers are gone, so their files are stale; a remote
@@ -642,9 +658,20 @@ class _Start:
         self._thread.start()
 
     def _start(self):
+        from multiprocessing import resource_tracker
+
         from distributed import Client
 
         start = time.monotonic()
+        # Ctrl+C on a terminal reaches every process of its group, the local cluster's worker
+        # processes too, and each printed a traceback. This thread's signal mask is inherited
+        # by the threads it starts and the worker processes they spawn (POSIX: fork and exec
+        # keep the mask), so those never take SIGINT; this process's main thread still does,
+        # and closing the cluster ends them (run's finally). multiprocessing's resource tracker
+        # unblocks SIGINT in the thread that starts it (resource_tracker.ensure_running): it is
+        # started first, here, so that the IO loop thread's mask stays as it is given.
+        resource_tracker.ensure_running()
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         try:
             if self.address is None:
                 self._cluster = local_cluster(self.workers, self.log)
@@ -661,10 +688,21 @@ class _Start:
             raise self._error
         return self._client
 
-    def close(self) -> float:
-        """Close what was started (once it is up); seconds of starting and closing."""
+    def close(self, interrupted: bool = False) -> float:
+        """Close what was started (once it is up); seconds of starting and closing.
+
+        ``interrupted`` (Ctrl+C): the local cluster's worker processes are killed first, since
+        closing waits for their running tasks (a 4096 texture: minutes) and they ignore SIGINT
+        (:func:`dask_setup`); their temporary files are removed after (``run``).
+        """
         self._thread.join()
         start = time.monotonic()
+        if interrupted and self._cluster is not None:
+            for nanny in self._cluster.workers.values():
+                pid = getattr(getattr(nanny, "process", None), "pid", None)
+                if pid:
+                    with contextlib.suppress(ProcessLookupError):
+                        os.kill(pid, signal.SIGKILL)
         if self._client is not None:
             self._client.close()
         if self._cluster is not None:

@@ -401,6 +401,8 @@ def run_batch(args, bar: Bar) -> None:
     params = method_params(args)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers: at least 1 worker process, got {args.workers}")
+    if args.band is not None and args.band < 1:
+        raise UsageError(f"--band: a width in pixels of at least 1, got {args.band}")
     if args.scheduler is not None:
         try:
             batch_module.scheduler_address(args.scheduler)

@@ -344,6 +344,9 @@ def preflight(jobs: list[Job]) -> list[tuple[float, float]]:
             longest[out.parent] = out.name
     for folder, name in longest.items():
         check_folder(folder, name)
+    for out in (out for job in jobs for out in job.all_outputs()):
+        if Path(out).is_dir():  # os.replace onto it would fail after the work
+            raise OutputError(f"{out}: a folder of that name is there; choose another output")
     return forecasts
 
 
@@ -365,11 +368,13 @@ def _reads_joints(job: Job) -> bool:
 
 def _pixels(job: Job):
     """The job's photo read for its prediction (once more than the run reads it: 0.1-0.4 s for
-    a 12 MP JPEG), or None when it cannot be (the run then names why)."""
+    a 12 MP JPEG); :class:`InputError` naming the row and file when it cannot be read."""
     try:
         return read_input(job.photo)[:, :, :3]
-    except InputError:
-        return None
+    except InputError as error:  # damage past the headers: refused here, before any work
+        text = str(error)
+        raise InputError(text if not job.origin or text.startswith(job.origin)
+                         else f"{job.origin}: {text}") from None
 
 
 def _check_run(job: Job, shape, pixels=None) -> tuple[float, float]:
@@ -500,7 +505,8 @@ def write_outputs(files: list[tuple[str, np.ndarray]], bits: int) -> None:
     except ImageWriteError as error:
         raise OutputError(str(error)) from None
     except OSError as error:
-        raise OutputError(f"cannot write ({error.strerror or error})") from None
+        where = error.filename2 or error.filename  # os.replace's: the output's own name
+        raise OutputError(f"{where}: cannot write ({error.strerror or error})") from None
 
 
 # --- the material operation (issue 43): texsynth.material's pipeline over one photo ---------
