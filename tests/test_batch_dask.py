@@ -255,3 +255,21 @@ def _group(pgid):
         except (OSError, IndexError, ValueError):
             pass
     return found
+
+
+def test_a_second_cluster_beside_one_on_the_dashboard_port_starts_without_a_warning(recwarn):
+    """Dask serves its HTTP routes on 8787 even with the dashboard off: two batches at once
+    printed "Port 8787 is already in use ... Hosting the HTTP server on port ... instead"."""
+    taken = socket.socket()
+    taken.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        taken.bind(("", 8787))
+        taken.listen()
+    except OSError:
+        pass  # another program holds it: the same case
+    try:
+        with batch.local_cluster(1):
+            pass
+    finally:
+        taken.close()
+    assert not [w for w in recwarn if "already in use" in str(w.message)]

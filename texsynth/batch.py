@@ -518,6 +518,9 @@ def local_cluster(workers: int | None = None, log: str | os.PathLike | None = No
         with dask.config.set(_worker_environment(workers)):
             return LocalCluster(n_workers=workers, threads_per_worker=1,
                                 processes=True, dashboard_address=None,
+                                # its HTTP routes on a free port: on 8787, taken by another
+                                # batch's cluster, Dask warned in 4 lines
+                                scheduler_kwargs={"dashboard_address": ":0"},
                                 silence_logs=logging.CRITICAL, preload=[__name__],
                                 env={LOG_VARIABLE: str(log or "")})
     finally:  # as the nanny does, each time it starts a worker: this process's are kept
