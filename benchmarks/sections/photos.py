@@ -43,6 +43,7 @@ from texsynth.tileable import default_band
 
 from .. import jobs, peers
 from ..context import REPO, SHARED_TEXTURES
+from .predictions import FLOOR_MIB, FLOOR_S
 from .tileable import gimp_make_seamless, resynthesizer_band, unchanged
 
 ORDER = 37
@@ -241,10 +242,13 @@ def cell(r: dict) -> str | None:
 
 def predictions(r: dict, goals: Goals) -> tuple[str, str]:
     """Predicted over measured time, predicted memory over the run's growth of resident memory
-    (its peak less the process's size before the call)."""
-    t = goals.mark("predicted time", r["predicted_s"] / r["seconds"], *PREDICTION)
+    (its peak less the process's size before the call); not rated under the predictions
+    section's floors both ways (``FLOOR_S``, ``FLOOR_MIB``: a photo that already tiles)."""
     grown = max(r["rss"] - r["base"], 1.0)
-    m = goals.mark("predicted memory", r["predicted_bytes"] / 2**20 / grown, *PREDICTION)
+    t = "brief" if max(r["predicted_s"], r["seconds"]) < FLOOR_S else \
+        goals.mark("predicted time", r["predicted_s"] / r["seconds"], *PREDICTION)
+    m = "small" if max(r["predicted_bytes"] / 2**20, grown) < FLOOR_MIB else \
+        goals.mark("predicted memory", r["predicted_bytes"] / 2**20 / grown, *PREDICTION)
     seconds = r["predicted_s"]
     return (f"{seconds:.{1 if seconds < 10 else 0}f} / {t}",
             f"{r['predicted_bytes'] / 2**20:.0f} / {m}")
@@ -295,11 +299,12 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "its time from the 12 MP photo over that from the crop (goal: at most "
         f"{CAMERA_OVER_CROP}); peak RSS: the run's process's peak resident memory (VmHWM: "
         "interpreter, imports and the photo included; goal: at most 4 GiB); predicted: "
-        "`texsynth.budget.predict` and `method.memory(...)` (model calls at the machine factor, "
-        "speed times load, the run's process read just before it: `budget.machine_factor()`), "
-        "beside their ratio to the "
+        "`texsynth.budget.forecast` given the photo, as the panel, the command line and "
+        "batches call it (model calls at the machine factor, speed times load, the run's "
+        "process read just before it: `budget.machine_factor()`), beside their ratio to the "
         "measured time and to the growth of resident memory over the call (goal: within 1.5x "
-        "either way). Seam: seam ratio; gradient: the "
+        f"either way; not rated under {FLOOR_S:g} s or {FLOOR_MIB:.0f} MiB both ways, as in "
+        "the predictions section). Seam: seam ratio; gradient: the "
         "output's mean gradient over the photo's (metrics.gradient_ratio); both two-sided, "
         "goal between 0.9 and 1.1 (under it a soft wrap or a blurred output, over it a step or "
         "a noisier output). A refused run shows the library's message.",
@@ -402,7 +407,8 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "Every large photo at its own size and the 12 MP photo made to tile by "
         f"`texsynth.make_tileable` (defaults: band `default_band`, seed {SEED}), beside "
         f"{gimp_note}, and {rs_note}. Peak RSS and predictions as above (predictions: "
-        "`texsynth.tileable.predict`). Seam: seam ratio; band sharpness: "
+        "`texsynth.tileable.predict` given the photo: one that already tiles is told the "
+        "check and a copy). Seam: seam ratio; band sharpness: "
         "`metrics.band_sharpness(out, band)` (the middle of the band's mean gradient over the "
         "kept pixels'); gradient: the result's mean gradient over the photo's; all three "
         "two-sided, goal between 0.9 and 1.1: a seam ratio of 0.5 is a soft line where the tiles "
