@@ -5,6 +5,7 @@ import pytest
 from scipy.ndimage import gaussian_filter
 
 import texsynth
+from texsynth import budget
 from texsynth.algorithms import de_bonet as de_bonet_module
 from texsynth.algorithms.de_bonet import (
     BallSampler,
@@ -16,6 +17,7 @@ from texsynth.algorithms.de_bonet import (
     sample_pyramid,
     tiled_subset,
 )
+from texsynth.api import check
 from texsynth.blocks.periodic import periodic_component
 from texsynth.blocks.pyramid import LaplacianPyramid
 from texsynth.blocks.quilting import torus_quilt
@@ -302,3 +304,13 @@ def test_a_torus_quilt_tiles_from_pieces_of_its_source():
         step = ((np.roll(y, -1, axis) - y) % 16 == dy) & ((np.roll(x, -1, axis) - x) % 16 == dx)
         assert step.mean() > 0.7
     assert len(np.unique(where)) > 0.5 * source.shape[0] * source.shape[1]
+
+
+def test_a_small_photo_to_a_large_output_is_not_refused_memory_it_fits(monkeypatch):
+    # issue 45: a 32^2 exemplar to 1024^2 grows resident memory by 37-39 MiB (predictions
+    # section, VmHWM); the sampling's fixed batches, counted on top of the collapse too, had
+    # told 63 MiB, and a 48 MiB budget refused it
+    monkeypatch.setenv("TEXSYNTH_MEMORY_BUDGET", str(48 << 20))
+    monkeypatch.setenv("TEXSYNTH_TIME_BUDGET", str(10**6))
+    assert check((32, 32, 3), 1024, 1024, method="de_bonet")[:2] == (1024, 1024)
+    assert 37 << 20 <= budget.forecast("de_bonet", (32, 32, 3), 1024, 1024)[1] <= 1.5 * (39 << 20)

@@ -144,23 +144,34 @@ def plan(source, out_dir, defaults: Defaults = Defaults()) -> list[Job]:
 
 
 #: How much slower a task runs on one of two cores than on both (the thread pool overlaps
-#: little of it): 6 tasks of the batch section on 2 workers of 1 thread took 21.9 s, the same
-#: one by one in one process on 2 threads 30.6 s (2 x 21.9 / 30.6).
-POOL_GAIN = 1.43
+#: little of it), fitted with the tasks dealt as :func:`forecast` deals them: the batch
+#: section's 6 tasks 256 -> 768 took 14.0 s on 2 workers of 1 thread (its cluster's start and
+#: close left out), the same one by one in one process on 2 threads 20.0 s, whose longest
+#: first deal puts 0.56 of it (the 1.8x task and two others, as measured one by one: 5.6 of
+#: 20.9 s and 3.1 s each) on one worker: 14.0 / (0.56 x 20.0) = 1.25; the batch of
+#: d85fab1, 21.9 s against 30.6 s: 1.28 (issue 45: 1.43, 2 x 14.0 / 20.0, took the tasks as
+#: evenly shared, and the deal counted the longest worker's excess over the mean again: the
+#: forecast read 23.5 s for 15.0).
+POOL_GAIN = 1.26
+#: Seconds a local cluster takes to start and close beside the tasks (the batch section's
+#: summaries: 1.0 and 1.0 s; it starts while the inputs are hashed).
+CLUSTER_SECONDS = 1.0
 
 
-def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]:
+def forecast(jobs: list[Job], workers: int | None = None,
+             local: bool = True) -> tuple[float, float]:
     """The batch's predicted (seconds, peak bytes) on this machine, from each planned job's
     ``forecast`` (its seconds on every core): each task slowed by :data:`POOL_GAIN` for every
     halving of the cores its worker gets, the tasks dealt longest first to the worker free
-    first (LPT, the cluster's order in :func:`run`); the peak is the largest task's once per worker
-    process (:func:`default_workers`).
+    first (LPT, the cluster's order in :func:`run`), and a ``local`` cluster's start and close
+    (:data:`CLUSTER_SECONDS`; none for a running scheduler's); the peak is the largest task's
+    once per worker process (:func:`default_workers`).
 
     Examples
     --------
     >>> jobs = [Job(photo="a.png", outputs=("o.png",), forecast=(2.0, 100.0)),
     ...         Job(photo="b.png", outputs=("p.png",), forecast=(3.0, 300.0))]
-    >>> forecast(jobs, workers=1)
+    >>> forecast(jobs, workers=1, local=False)
     (5.0, 300.0)
     """
     known = [job.forecast for job in jobs if job.forecast is not None]
@@ -169,7 +180,8 @@ def forecast(jobs: list[Job], workers: int | None = None) -> tuple[float, float]
     free = [0.0] * workers
     for seconds in sorted((seconds for seconds, _ in known), reverse=True):
         heapq.heapreplace(free, free[0] + seconds * slowdown)
-    return (float(max(free)), max((peak for _, peak in known), default=0.0) * workers)
+    return (float(max(free)) + (CLUSTER_SECONDS if local and known else 0.0),
+            max((peak for _, peak in known), default=0.0) * workers)
 
 
 #: A manifest's columns (docs/BATCH.md).

@@ -414,7 +414,8 @@ def run_batch(args, bar: Bar) -> None:
         bits=args.bits, data=args.data, in_size=args.in_size)
     jobs = batch_module.plan(args.source, args.output, defaults)
     if not args.quiet:  # as the single command: before any work (tasks already done: less)
-        seconds, peak = batch_module.forecast(jobs, args.workers)
+        seconds, peak = batch_module.forecast(jobs, args.workers,
+                                              local=args.scheduler is None)
         print(f"{forecast_line(seconds, peak)} for {len(jobs)} tasks", file=sys.stderr)
     try:
         summary = batch_module.run(jobs, scheduler=args.scheduler, workers=args.workers,

@@ -151,6 +151,12 @@ QUILT_COST = 2.7e-3
 #: at 128^2 -> 256^2, 256^2 -> 512^2 and 512^2 -> 1024^2: the analysis 0.09-0.1, the collapse
 #: 0.03).
 INDEX_WORK, ANALYSIS_WORK, COLLAPSE_WORK = 150.0, 0.09, 0.036
+#: Resident bytes the sampling's fixed batches take beside its tables (its ``CHUNK`` of queries,
+#: their candidates and ball searches, the kd-tree's threads; issue 45): 20 MiB traced by
+#: tracemalloc and 32-35 MiB resident at 128^2 -> 512^2 and 1024^2, whatever the output's size.
+#: Counted as a constant over every phase, it told a 32^2 exemplar to 1024^2 1.63x its growth
+#: (the collapse, the peak there, runs after the batches are freed).
+SAMPLING_WORKSPACE = 32 << 20
 #: Work, in free queries, per block of the coarsest level's quilting, for the progress (issue
 #: 40: 0.8-1.3 ms CPU a block against 2.6-3.5 us a query from 256^2 to 512^2, 64^2 to
 #: 1024 x 256 and 32^2 to 1024^2, where the quilting, told nothing, took 1 %, 17 % and 55 %).
@@ -679,19 +685,20 @@ def _memory(shape, width, height, params):
     and the largest of three phases. Analysing: two channels' transforms side by side, 38 bytes
     per exemplar pixel (measured). Sampling the finest level: per exemplar pixel its projected
     parent structure (float32) and its ancestors' (8 bytes); per indexed location, its kd-tree;
-    per output pixel, the int32 source maps. Collapsing: per output pixel, the output, the
-    source maps, one channel's Laplacian levels and its spectra. The matching runs in fixed
-    batches. On the 12 MP photo and its 1024 crop to 2048^2: 0.95-0.99 and 0.98-1.00 of the
-    measured growth of resident memory (3 runs each)."""
+    per output pixel, the int32 source maps; and the matching's fixed batches
+    (``SAMPLING_WORKSPACE``). Collapsing: per output pixel, the output, the source maps, one
+    channel's Laplacian levels and its spectra (the batches freed). On the 12 MP photo and its
+    1024 crop to 2048^2: 0.95-0.99 and 0.98-1.00 of the measured growth of resident memory (3
+    runs each)."""
     k, c = params["orientations"], shape[2]
     exemplar = shape[0] * shape[1]
     held = 4 * c * (1 + (k + 1) / 3) * exemplar
     sources = 4 * 4 / 3 * width * height
     tree = min(exemplar, 2 * TREE_POINTS)
     analysing = 38 * exemplar
-    sampling = (4 * MAX_DIMS + 8) * exemplar + 80 * tree + sources
+    sampling = (4 * MAX_DIMS + 8) * exemplar + 80 * tree + sources + SAMPLING_WORKSPACE
     collapsing = (4 * c + 4 * 4 / 3 + 16) * width * height + sources
-    return held + max(analysing, sampling, collapsing) + (24 << 20)
+    return held + max(analysing, sampling, collapsing)
 
 
 def _cost(shape, width, height, params):
