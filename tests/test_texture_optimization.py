@@ -176,3 +176,35 @@ def test_a_stochastic_photo_does_not_come_out_with_a_region_twice():
     ex = smooth_noise((128, 128), 0, sigma=4.0)
     out = texsynth.synthesize(ex, 256, 256, method="texture_optimization", seed=0)
     assert repetition_peak(out) < repetition_peak(ex) + 0.1
+
+
+def test_the_photos_own_dead_ends_are_copied_less(monkeypatch):
+    """Six gaps cut in a running bond's bed joints (12 dead ends in the photo): with
+    ``DEAD_END_COST`` the patches that hold them are copied less than the photo's average
+    pixel, left free at least as often."""
+    from texsynth.algorithms import texture_optimization as to
+    from texsynth.blocks import feature_distance, joint_repair
+    from texsynth.blocks.joints import luma
+
+    from _images import running_bond
+
+    wall, _ = running_bond((192, 256), 0, course=24, brick=56, joint=3, tint=(0.9, 0.5, 0.4),
+                           shade=(0.6, 0.4), grain=0.1, mortar=(0.85, 0.85, 0.8), speckle=0.1)
+    for r in (49, 97, 145):  # bed joints' middle rows
+        for x in (40, 150):
+            wall[r - 2:r + 3, x:x + 8] = wall[r + 8:r + 13, x:x + 8]  # brick over the joint
+    ends = joint_repair.photo_ends(luma(wall), feature_distance.fit(wall, 0.0, to.FEATURE_WEIGHT))
+
+    def copies():
+        _, p = texsynth.synthesize_positions(wall, 384, 384, method="texture_optimization",
+                                               seed=0)
+        use = np.zeros(wall.shape[:2])
+        np.add.at(use, (p[..., 0].ravel(), p[..., 1].ravel()), 1)
+        return use[ends].mean() / use.mean()
+
+    assert ends.sum() > 0
+    kept = copies()
+    monkeypatch.setattr(to, "DEAD_END_COST", 0.0)
+    free = copies()
+    print(ends.sum(), kept, free)
+    assert kept < 0.5 * free

@@ -175,9 +175,9 @@ Efros & Freeman 2001, section 2.1; Kwatra et al. 2003, section 3.1; Pritch, Kav-
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import uniform_filter
+from scipy.ndimage import maximum_filter, uniform_filter
 
-from ..blocks import feature_distance
+from ..blocks import feature_distance, joint_repair
 from ..blocks.joints import luma
 from ..blocks.patchmatch import (
     BLOCK_ROWS,
@@ -262,6 +262,10 @@ SHIFT = 3
 LOCK_REPEAT, LOCK_STEPS = 0.35, 2
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
 FEATURE_WEIGHT = 2.0
+#: Where there are joints, the exemplar patches whose block (grown by ``DEAD_END_MARGIN`` joint
+#: half widths) holds one of the photo's own dead ends cost ``DEAD_END_COST`` times the median
+#: matching distance more, on the levels ``DEAD_END_LEVELS`` (finest 0).
+DEAD_END_COST, DEAD_END_MARGIN, DEAD_END_LEVELS = 8.0, 2.0, (0, 1, 2)
 #: The shortest straight cut between copies re-cut, and how far its new path may wander
 #: (pixels at the level).
 RUN, BAND = 16, 8
@@ -309,7 +313,7 @@ def _downsample(image):
 
 def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
              iterations=3, uniformity=2.0, elements=False, courses=False, setup=0.0,
-             lattice=None):
+             lattice=None, joints=None):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
     ``levels`` 0: enough to span the exemplar's texel (see the module notes); ``elements``:
     the exemplar has a joint network (its channels added), whose elements the coarsest levels
@@ -317,7 +321,9 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     copies breadth first from the largest (``align_regions``' walk); ``setup``: the seconds
     (``_step_cost``'s) of the caller's work before, done when the progress reaches its share;
     ``lattice``: the courses' (P, Q, s) the copies lock into after their alignment, on the
-    levels that divide it into at least ``LOCK_STEPS`` pixels a course (``lock_lattice``).
+    levels that divide it into at least ``LOCK_STEPS`` pixels a course (``lock_lattice``);
+    ``joints``: (the photo's luma, the ``Joints`` read on it), whose dead ends cost the patches
+    that hold them on the levels ``DEAD_END_LEVELS`` (``_stubs``).
     """
     progress(0.0, "analysing the exemplar")
     if levels == 0:
@@ -329,20 +335,24 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
-    # ends[2 i], ends[2 i + 1], ends[2 i + 2]: step i's EM iterations, then its alignment
-    ends = np.cumsum([setup] + [c for lv, p in steps
-                              for c in _step_cost(height, width, lv, p, patch_size, iterations)])
-    ends /= ends[-1]
+    # spans[2 i], spans[2 i + 1], spans[2 i + 2]: step i's EM iterations, then its alignment
+    spans = np.cumsum([setup] + [c for lv, p in steps
+                               for c in _step_cost(height, width, lv, p, patch_size, iterations)])
+    spans /= spans[-1]
+    ends = None if joints is None else joint_repair.photo_ends(*joints)
     positions = None
     for i, (lv, p) in enumerate(steps):
         z = pyramid[lv]
         shape = (-(-height // 2 ** lv), -(-width // 2 ** lv))
         if positions is not None and positions.shape[:2] != shape:
             positions = _upsample(positions, shape, z.shape)
-        start, relaxed, stop = ends[2 * i:2 * i + 3]
+        start, relaxed, stop = spans[2 * i:2 * i + 3]
+        stubs = None if ends is None or lv not in DEAD_END_LEVELS else \
+            _stubs(ends, lv, p, _stride(z.shape, p), z.shape[:2], joints[1].sigma)
         positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
-                                   progress.span(start, relaxed), f"level {lv}, patch {p}")
+                                   progress.span(start, relaxed), f"level {lv}, patch {p}",
+                                   stubs)
         label = f"level {lv}: re-cutting straight cuts"
         positions = recut_straight(z, positions, RUN, BAND,
                                    tick=lambda d=relaxed, m=label: progress(d, m))
@@ -357,6 +367,20 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                 positions = lock_lattice(luma(z[:, :, :3]), positions,
                                          tuple(v >> lv for v in lattice))
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
+
+
+def _stubs(ends, lv, p, s, shape, sigma):
+    """The exemplar patches (bool, on the search lattice of spacing ``s``: ``PatchFeatures``'
+    shape) of side ``p`` at level ``lv`` (exemplar ``shape``) whose block, grown by
+    ``DEAD_END_MARGIN`` joint half widths ``sigma`` (full-resolution pixels), holds one of the
+    photo's dead ends ``ends`` (full resolution)."""
+    step = 2 ** lv
+    h, w = shape
+    at = ends[:h * step, :w * step].reshape(h, step, w, step).any(axis=(1, 3))
+    m = int(np.ceil(DEAD_END_MARGIN * sigma / step))
+    size = p + 2 * m
+    near = maximum_filter(at, size, origin=m - size // 2, mode="constant")
+    return near[:h - p + 1:s, :w - p + 1:s]
 
 
 def _step_cost(height, width, lv, p, p_min, iterations) -> tuple[float, float]:
@@ -470,8 +494,11 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
     return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
 
 
-def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label):
-    """Kwatra's EM iterations at one level and patch size; returns the new positions."""
+def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label,
+                   stubs=None):
+    """Kwatra's EM iterations at one level and patch size; returns the new positions.
+    ``stubs`` (bool, on the search lattice): the patches that hold one of the photo's dead
+    ends, which cost ``DEAD_END_COST`` median distances more (from the second iteration)."""
     progress(0.0, label)
     features = PatchFeatures(z, p, rng, tick=lambda: progress(0.0, label),
                              stride=_stride(z.shape, p))
@@ -511,8 +538,11 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
                            MATCH_ITERATIONS, grid.index, penalty, tick)
         cost = total if penalty is None else \
             total - penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
-        if uniformity > 0:
-            penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
+        if uniformity > 0 or stubs is not None:
+            penalty = np.zeros(features.shape, np.float32) if uniformity <= 0 else \
+                _usage_penalty(nnf, grid, features, cost, uniformity)
+            if stubs is not None:
+                penalty += np.float32(DEAD_END_COST * np.mean(cost)) * stubs
             tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         if it < iterations - 1:
@@ -601,13 +631,16 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
     if min(width, height) < patch_size:
         raise ValueError(f"the output ({width} x {height}) is smaller than the patch "
                          f"({patch_size} x {patch_size}); use a smaller patch size")
-    work = feature_distance.augment(exemplar, joint_width, feature_weight)
+    joints = feature_distance.fit(exemplar, joint_width, feature_weight)
+    work = exemplar if joints is None else feature_distance.augment(exemplar, joint_width,
+                                                                    feature_weight, joints)
     elements = work is not exemplar
     courses = elements and course_period(exemplar) is not None
     lattice = course_lattice(exemplar, LOCK_REPEAT) if courses else None
     setup = min(SETUP_FIXED + SETUP_PIXEL * exemplar.shape[0] * exemplar.shape[1], SETUP_MAX)
     out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
-                              iterations, uniformity, elements, courses, setup, lattice)
+                              iterations, uniformity, elements, courses, setup, lattice,
+                              (luma(exemplar), joints) if elements else None)
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
