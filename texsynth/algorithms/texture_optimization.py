@@ -264,8 +264,9 @@ LOCK_REPEAT, LOCK_STEPS = 0.35, 2
 FEATURE_WEIGHT = 2.0
 #: Where there are joints, the exemplar patches whose block (grown by ``DEAD_END_MARGIN`` joint
 #: half widths) holds one of the photo's own dead ends cost ``DEAD_END_COST`` times the median
-#: matching distance more, on the levels ``DEAD_END_LEVELS`` (finest 0).
-DEAD_END_COST, DEAD_END_MARGIN, DEAD_END_LEVELS = 8.0, 2.0, (0, 1, 2)
+#: mean matching distance more, at the levels and patch sizes where at most ``DEAD_END_SHARE``
+#: of the patches hold one (where most do, the cost would lay the elements out anew).
+DEAD_END_COST, DEAD_END_MARGIN, DEAD_END_SHARE = 16.0, 2.0, 0.25
 #: The shortest straight cut between copies re-cut, and how far its new path may wander
 #: (pixels at the level).
 RUN, BAND = 16, 8
@@ -323,7 +324,7 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     ``lattice``: the courses' (P, Q, s) the copies lock into after their alignment, on the
     levels that divide it into at least ``LOCK_STEPS`` pixels a course (``lock_lattice``);
     ``joints``: (the photo's luma, the ``Joints`` read on it), whose dead ends cost the patches
-    that hold them on the levels ``DEAD_END_LEVELS`` (``_stubs``).
+    that hold them where few patches do (``_stubs``, ``DEAD_END_SHARE``).
     """
     progress(0.0, "analysing the exemplar")
     if levels == 0:
@@ -347,8 +348,10 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
         if positions is not None and positions.shape[:2] != shape:
             positions = _upsample(positions, shape, z.shape)
         start, relaxed, stop = spans[2 * i:2 * i + 3]
-        stubs = None if ends is None or lv not in DEAD_END_LEVELS else \
+        stubs = None if ends is None else \
             _stubs(ends, lv, p, _stride(z.shape, p), z.shape[:2], joints[1].sigma)
+        if stubs is not None and stubs.mean() > DEAD_END_SHARE:
+            stubs = None
         positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
                                    progress.span(start, relaxed), f"level {lv}, patch {p}",
