@@ -141,6 +141,28 @@ generated wall, seeds 0-5, before / after: 1.14, 1.26, 1.12, 1.25, 1.14, 1.16 / 
 1.10, 1.16, 1.00, 1.08, its courses straight across the wrap, one sliver course; gradient ratio
 1.00 / 1.01, repeat peak 0.54 both (photo 0.55); CPU 12.9 / 14.4 s (one run each, under load).
 
+Where the pavers' joints still stopped (issue 41, the pavers' 512 crop over 1.25 on seeds 0-1
+and 4; ``multiscale_mrf``'s cost, ours): of seed 4's 130 dead ends (0's 123) 83 (100) lay
+inside a copy and 79 (96) of those on a copy of one of the photo's own 20 (at most 7 px from
+it), 47 (23) at a seam. So where there are joints, an exemplar patch whose block, grown by
+``DEAD_END_MARGIN`` joint half widths, holds one of the photo's dead ends (read as
+``texsynth.metrics.dead_end_ratio`` reads the photo, with the joints the method measured)
+costs ``DEAD_END_COST`` times the iteration's mean matching distance more, beside the usage
+term (the median, which scales the usage term, is 0 at levels 0-1: most patches there are
+copied exactly). Only at the levels and patch sizes where at most ``DEAD_END_SHARE`` of the
+patches hold one (on the pavers levels 0-1 and level 2's 8 px patch; at 0.46 on level 2's
+16 px patch, the cost at 8 on levels 0-2 took seeds 0-5 to 0.77-1.11 but laid the pavers out
+anew, courses in stairs and short pavers where the copies dodged the stubs; levels 0-1 at 4:
+1.25, 1.21 on seeds 4, 0). Dead-end ratio, each photo to twice its size (the elements
+section's methods), seeds 0-2, before / after: pavers' 512 crop 1.25, 1.25, 1.18 / 0.79,
+0.81, 0.72 (seeds 3-5 1.16, 1.34, 1.08 / 0.76, 0.77, 0.82: fewer stubs, the layout kept);
+brick wall's crop 0.97, 0.93, 1.02 / 0.93, 0.90, 0.96; generated wall 1.09, 1.19, 1.10 /
+0.94, 1.04, 0.92; ashlar 1.09, 1.00, 1.10 / 0.88, 0.87, 0.83; flagstones 0.79, 0.95, 1.21 /
+0.83, 0.73, 1.31 (6 dead ends in its photo: a seed reads within about 20 %; seed 2's picture
+alike, its stubs where they were); setts reduced 1.06, 1.01, 0.96 / 0.84, 0.75, 0.70; gravel
+(no joints: the path without the cost) 0.01. Gradient ratio after 1.00-1.07, repeat peak
+within the photo's own + 0.03 (ashlar 0.34 on seed 2, photo 0.33).
+
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
   the distance, after a PCA);
@@ -162,6 +184,8 @@ Deviations, one line each:
   way where that joins its seams (``align_regions``), ours, after Pritch et al. 2009's shift-map;
 - (ours) where the courses' lattice repeats, the aligned levels lock the copies into one phase
   of it (``lock_lattice``), the phase broken once along a row and a column where asked;
+- (ours) where there are joints, the exemplar patches that hold one of the photo's own dead
+  ends cost more (``DEAD_END_COST``), where few patches hold one (``DEAD_END_SHARE``);
 - after each level and patch size, boundaries straight for ``RUN`` pixels are re-cut within
   ``BAND`` pixels of their line (``recut_straight``), not every boundary by a graph cut.
 
