@@ -39,7 +39,7 @@ def test_the_photos_own_dead_ends_are_copied_less(monkeypatch):
     centre is copied most); with ``DEAD_END_COST`` 1.2 times."""
     from texsynth import synthesize_positions
     from texsynth.algorithms import multiscale_mrf as mm
-    from texsynth.blocks import feature_distance
+    from texsynth.blocks import feature_distance, joint_repair
     from texsynth.blocks.joints import luma
 
     monkeypatch.setattr(mm, "LOCK_REPEAT", np.inf)  # the cost alone: copies not locked,
@@ -48,7 +48,7 @@ def test_the_photos_own_dead_ends_are_copied_less(monkeypatch):
     for r in (49, 97, 145):  # bed joints' middle rows
         for x in (40, 150):
             wall[r - 2:r + 3, x:x + 8] = wall[r + 8:r + 13, x:x + 8]  # brick over the joint
-    ends = mm._photo_ends(luma(wall), feature_distance.fit(wall, 0.0, mm.FEATURE_WEIGHT))
+    ends = joint_repair.photo_ends(luma(wall), feature_distance.fit(wall, 0.0, mm.FEATURE_WEIGHT))
     assert ends.sum() == 12
 
     def copies():

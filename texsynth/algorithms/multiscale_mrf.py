@@ -587,7 +587,7 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
         small = shapes[lv][0] * shapes[lv][1] <= COARSE_PIXELS
         return factor if lv >= len(shapes) - COARSE_LEVELS and small else 1
 
-    ends = None if repair is None else _photo_ends(*repair)
+    ends = None if repair is None else joint_repair.photo_ends(*repair)
     kept = {}  # the table array, refilled by every table level; the windows, built once
 
     def make_level(lv, tick):
@@ -687,17 +687,6 @@ def _repair(level, source, lv, visits, shape, repair, reach, wrap, rng, tick):
         multigrid.relax(level, source, halves, visits, rng,
                         lambda f, *_, r=r: tick((r + f) / REPAIR_ROUNDS), lv)
     return source
-
-
-def _photo_ends(photo, joints):
-    """The photo's own dead ends (bool, (h, w)): ``joints``' skeleton of ``photo`` (its luma),
-    read mirrored at the edges, its ends placed at full resolution."""
-    _, end = joints.skeleton(photo, wrap=False)
-    f = joints.f
-    r, c = np.nonzero(end)
-    out = np.zeros(photo.shape[:2], bool)
-    out[np.minimum(r * f + f // 2, len(out) - 1), np.minimum(c * f + f // 2, out.shape[1] - 1)] = 1
-    return out
 
 
 def _near_ends(ends, step, sigma):

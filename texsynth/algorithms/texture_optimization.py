@@ -141,6 +141,43 @@ generated wall, seeds 0-5, before / after: 1.14, 1.26, 1.12, 1.25, 1.14, 1.16 / 
 1.10, 1.16, 1.00, 1.08, its courses straight across the wrap, one sliver course; gradient ratio
 1.00 / 1.01, repeat peak 0.54 both (photo 0.55); CPU 12.9 / 14.4 s (one run each, under load).
 
+Where the pavers' joints still stopped (issue 41, the pavers' 512 crop over 1.25 on seeds 0-1
+and 4; ``multiscale_mrf``'s cost, ours): of seed 4's 130 dead ends (0's 123) 83 (100) lay
+inside a copy and 79 (96) of those on a copy of one of the photo's own 20 (at most 7 px from
+it), 47 (23) at a seam. So where there are joints, an exemplar patch whose block, grown by
+``DEAD_END_MARGIN`` joint half widths, holds one of the photo's dead ends (read as
+``texsynth.metrics.dead_end_ratio`` reads the photo, with the joints the method measured)
+costs ``DEAD_END_COST`` times the iteration's mean matching distance more, beside the usage
+term (the median, which scales the usage term, is 0 at levels 0-1: most patches there are
+copied exactly). Only at the levels and patch sizes where at most ``DEAD_END_SHARE`` of the
+patches hold one (on the pavers levels 0-1 and level 2's 8 px patch; at 0.46 on level 2's
+16 px patch, the cost at 8 on levels 0-2 took seeds 0-5 to 0.77-1.11 but laid the pavers out
+anew, courses in stairs and short pavers where the copies dodged the stubs; levels 0-1 at 4:
+1.25, 1.21 on seeds 4, 0). Dead-end ratio, each photo to twice its size (the elements
+section's methods), seeds 0-2, before / after: pavers' 512 crop 1.25, 1.25, 1.18 / 0.79,
+0.81, 0.72 (seeds 3-5 1.16, 1.34, 1.08 / 0.76, 0.77, 0.82: fewer stubs, the layout kept);
+brick wall's crop 0.97, 0.93, 1.02 / 0.93, 0.90, 0.96; generated wall 1.09, 1.19, 1.10 /
+0.94, 1.04, 0.92; ashlar 1.09, 1.00, 1.10 / 0.88, 0.87, 0.83; flagstones 0.79, 0.95, 1.21 /
+0.83, 0.73, 1.31 (6 dead ends in its photo: a seed reads within about 20 %; seed 2's picture
+alike, its stubs where they were); setts reduced 1.06, 1.01, 0.96 / 0.84, 0.75, 0.70; gravel
+(no joints: the path without the cost) 0.01. Gradient ratio after 1.00-1.07, repeat peak
+within the photo's own + 0.03 (ashlar 0.34 on seed 2, photo 0.33).
+
+At 16 the flagstones' seed 2 read 1.31 (32 dead ends on 18408 px; main's seed 5 1.30, 31 on
+17958; seeds 0-5 main 0.79-1.30, at 16 0.72-1.31). The photo's 6 ends are all the ridges' gaps
+where three joints meet, not broken joints; of seed 2's 32 about 19 were such gaps at junctions
+whole in the picture, 10 of them copies of the photo's own (7 inside a copy, 3 at a seam: the
+cost at 16 did not keep them out), and about 13 real stubs or offsets, 11 at seams.
+``DEAD_END_COST`` 64 (the share still keeps it off the coarse levels, so the layouts are kept:
+courses straight, no stairs), seeds 0-2: pavers 0.65, 0.75, 0.46 (seeds 3-5 0.70, 0.88, 0.83);
+brick wall's crop 0.72, 0.68, 0.65; generated wall 0.79, 0.91, 0.77; ashlar 0.66, 0.60, 0.65;
+flagstones 0.50, 0.87, 1.04 (seeds 3-5 0.64, 0.91, 0.75); setts reduced 0.62, 0.58, 0.51;
+gravel as it was (no joints, no cost). Gradient ratio 0.98-1.07, repeat peak at most the
+photo's own + 0.01 (ashlar 0.34, photo 0.33); CPU as at 16 (flagstones' seed 3 A/B, under load:
+21.3, 23.4 / 23.4, 23.0 s). The running bond's test stubs: 0.64 of a pixel's copies (1.25 at
+16, 1.31 without). On the flagstones' seed 2 (25 ends) the gaps at junctions went from about 19
+to 12, the real stubs from about 13 to 10; stubs made at seams stay (three at its crossing).
+
 Deviations, one line each:
 - the feature distance and its saturation are two more exemplar channels (Lefebvre & Hoppe:
   the distance, after a PCA);
@@ -162,6 +199,8 @@ Deviations, one line each:
   way where that joins its seams (``align_regions``), ours, after Pritch et al. 2009's shift-map;
 - (ours) where the courses' lattice repeats, the aligned levels lock the copies into one phase
   of it (``lock_lattice``), the phase broken once along a row and a column where asked;
+- (ours) where there are joints, the exemplar patches that hold one of the photo's own dead
+  ends cost more (``DEAD_END_COST``), where few patches hold one (``DEAD_END_SHARE``);
 - after each level and patch size, boundaries straight for ``RUN`` pixels are re-cut within
   ``BAND`` pixels of their line (``recut_straight``), not every boundary by a graph cut.
 
@@ -175,9 +214,9 @@ Efros & Freeman 2001, section 2.1; Kwatra et al. 2003, section 3.1; Pritch, Kav-
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import uniform_filter
+from scipy.ndimage import maximum_filter, uniform_filter
 
-from ..blocks import feature_distance
+from ..blocks import feature_distance, joint_repair
 from ..blocks.joints import luma
 from ..blocks.patchmatch import (
     BLOCK_ROWS,
@@ -262,6 +301,11 @@ SHIFT = 3
 LOCK_REPEAT, LOCK_STEPS = 0.35, 2
 #: The feature-distance channel's standard deviation, in the colours' (``feature_distance``).
 FEATURE_WEIGHT = 2.0
+#: Where there are joints, the exemplar patches whose block (grown by ``DEAD_END_MARGIN`` joint
+#: half widths) holds one of the photo's own dead ends cost ``DEAD_END_COST`` times the median
+#: mean matching distance more, at the levels and patch sizes where at most ``DEAD_END_SHARE``
+#: of the patches hold one (where most do, the cost would lay the elements out anew).
+DEAD_END_COST, DEAD_END_MARGIN, DEAD_END_SHARE = 64.0, 2.0, 0.25
 #: The shortest straight cut between copies re-cut, and how far its new path may wander
 #: (pixels at the level).
 RUN, BAND = 16, 8
@@ -309,7 +353,7 @@ def _downsample(image):
 
 def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, sizes=2,
              iterations=3, uniformity=2.0, elements=False, courses=False, setup=0.0,
-             lattice=None):
+             lattice=None, joints=None):
     """Texture optimisation of a (height, width) periodic output; returns (image, positions).
     ``levels`` 0: enough to span the exemplar's texel (see the module notes); ``elements``:
     the exemplar has a joint network (its channels added), whose elements the coarsest levels
@@ -317,7 +361,9 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     copies breadth first from the largest (``align_regions``' walk); ``setup``: the seconds
     (``_step_cost``'s) of the caller's work before, done when the progress reaches its share;
     ``lattice``: the courses' (P, Q, s) the copies lock into after their alignment, on the
-    levels that divide it into at least ``LOCK_STEPS`` pixels a course (``lock_lattice``).
+    levels that divide it into at least ``LOCK_STEPS`` pixels a course (``lock_lattice``);
+    ``joints``: (the photo's luma, the ``Joints`` read on it), whose dead ends cost the patches
+    that hold them where few patches do (``_stubs``, ``DEAD_END_SHARE``).
     """
     progress(0.0, "analysing the exemplar")
     if levels == 0:
@@ -329,20 +375,26 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
     steps = [(lv, p) for lv in reversed(range(n_levels))
              for p in (patch_size << k for k in reversed(range(sizes)))
              if p <= min(pyramid[lv].shape[:2]) // 2 or p == patch_size]
-    # ends[2 i], ends[2 i + 1], ends[2 i + 2]: step i's EM iterations, then its alignment
-    ends = np.cumsum([setup] + [c for lv, p in steps
-                              for c in _step_cost(height, width, lv, p, patch_size, iterations)])
-    ends /= ends[-1]
+    # spans[2 i], spans[2 i + 1], spans[2 i + 2]: step i's EM iterations, then its alignment
+    spans = np.cumsum([setup] + [c for lv, p in steps
+                               for c in _step_cost(height, width, lv, p, patch_size, iterations)])
+    spans /= spans[-1]
+    ends = None if joints is None else joint_repair.photo_ends(*joints)
     positions = None
     for i, (lv, p) in enumerate(steps):
         z = pyramid[lv]
         shape = (-(-height // 2 ** lv), -(-width // 2 ** lv))
         if positions is not None and positions.shape[:2] != shape:
             positions = _upsample(positions, shape, z.shape)
-        start, relaxed, stop = ends[2 * i:2 * i + 3]
+        start, relaxed, stop = spans[2 * i:2 * i + 3]
+        stubs = None if ends is None else \
+            _stubs(ends, lv, p, _stride(z.shape, p), z.shape[:2], joints[1].sigma)
+        if stubs is not None and stubs.mean() > DEAD_END_SHARE:
+            stubs = None
         positions = _optimize_size(z, shape, p, positions, rng,
                                    iterations * (COARSE if lv >= 2 else 1), uniformity,
-                                   progress.span(start, relaxed), f"level {lv}, patch {p}")
+                                   progress.span(start, relaxed), f"level {lv}, patch {p}",
+                                   stubs)
         label = f"level {lv}: re-cutting straight cuts"
         positions = recut_straight(z, positions, RUN, BAND,
                                    tick=lambda d=relaxed, m=label: progress(d, m))
@@ -357,6 +409,20 @@ def optimize(exemplar, height, width, rng, progress, levels=0, patch_size=8, siz
                 positions = lock_lattice(luma(z[:, :, :3]), positions,
                                          tuple(v >> lv for v in lattice))
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions
+
+
+def _stubs(ends, lv, p, s, shape, sigma):
+    """The exemplar patches (bool, on the search lattice of spacing ``s``: ``PatchFeatures``'
+    shape) of side ``p`` at level ``lv`` (exemplar ``shape``) whose block, grown by
+    ``DEAD_END_MARGIN`` joint half widths ``sigma`` (full-resolution pixels), holds one of the
+    photo's dead ends ``ends`` (full resolution)."""
+    step = 2 ** lv
+    h, w = shape
+    at = ends[:h * step, :w * step].reshape(h, step, w, step).any(axis=(1, 3))
+    m = int(np.ceil(DEAD_END_MARGIN * sigma / step))
+    size = p + 2 * m
+    near = maximum_filter(at, size, origin=m - size // 2, mode="constant")
+    return near[:h - p + 1:s, :w - p + 1:s]
 
 
 def _step_cost(height, width, lv, p, p_min, iterations) -> tuple[float, float]:
@@ -470,8 +536,11 @@ def _usage_penalty(nnf, grid, features, cost, uniformity):
     return (scale * np.maximum(0.0, near / uniform - 1.0)).astype(np.float32)
 
 
-def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label):
-    """Kwatra's EM iterations at one level and patch size; returns the new positions."""
+def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress, label,
+                   stubs=None):
+    """Kwatra's EM iterations at one level and patch size; returns the new positions.
+    ``stubs`` (bool, on the search lattice): the patches that hold one of the photo's dead
+    ends, which cost ``DEAD_END_COST`` median distances more (from the second iteration)."""
     progress(0.0, label)
     features = PatchFeatures(z, p, rng, tick=lambda: progress(0.0, label),
                              stride=_stride(z.shape, p))
@@ -511,8 +580,11 @@ def _optimize_size(z, shape, p, positions, rng, iterations, uniformity, progress
                            MATCH_ITERATIONS, grid.index, penalty, tick)
         cost = total if penalty is None else \
             total - penalty[nnf[grid.index][:, 0] // s, nnf[grid.index][:, 1] // s]
-        if uniformity > 0:
-            penalty = _usage_penalty(nnf, grid, features, cost, uniformity)
+        if uniformity > 0 or stubs is not None:
+            penalty = np.zeros(features.shape, np.float32) if uniformity <= 0 else \
+                _usage_penalty(nnf, grid, features, cost, uniformity)
+            if stubs is not None:
+                penalty += np.float32(DEAD_END_COST * np.mean(cost)) * stubs
             tick()
         eps = 1e-3 * float(np.mean(cost)) + 1e-12
         if it < iterations - 1:
@@ -601,13 +673,16 @@ def texture_optimization(exemplar, width, height, rng, progress, levels=0, patch
     if min(width, height) < patch_size:
         raise ValueError(f"the output ({width} x {height}) is smaller than the patch "
                          f"({patch_size} x {patch_size}); use a smaller patch size")
-    work = feature_distance.augment(exemplar, joint_width, feature_weight)
+    joints = feature_distance.fit(exemplar, joint_width, feature_weight)
+    work = exemplar if joints is None else feature_distance.augment(exemplar, joint_width,
+                                                                    feature_weight, joints)
     elements = work is not exemplar
     courses = elements and course_period(exemplar) is not None
     lattice = course_lattice(exemplar, LOCK_REPEAT) if courses else None
     setup = min(SETUP_FIXED + SETUP_PIXEL * exemplar.shape[0] * exemplar.shape[1], SETUP_MAX)
     out, positions = optimize(work, height, width, rng, progress, levels, patch_size, sizes,
-                              iterations, uniformity, elements, courses, setup, lattice)
+                              iterations, uniformity, elements, courses, setup, lattice,
+                              (luma(exemplar), joints) if elements else None)
     if work is exemplar:
         return out, positions
     return exemplar[positions[:, :, 0], positions[:, :, 1]], positions

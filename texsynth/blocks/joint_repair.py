@@ -25,7 +25,7 @@ from scipy.spatial import cKDTree
 
 from .joints import Joints
 
-__all__ = ["render", "seams", "holes"]
+__all__ = ["render", "seams", "holes", "photo_ends"]
 
 #: A dead end within this many joint widths of a seam is the synthesis' own.
 NEAR = 1.5
@@ -109,6 +109,30 @@ def holes(photo: np.ndarray, positions: np.ndarray, joints: Joints, reach: float
     distance, _ = cKDTree(at, boxsize=shape).query(grid.reshape(-1, 2),
                                                    distance_upper_bound=reach + 1)
     return (distance <= reach).reshape(grid.shape[:2])
+
+
+def photo_ends(photo: np.ndarray, joints: Joints) -> np.ndarray:
+    """The photo's own dead ends (bool, (h, w)): ``joints``' skeleton of ``photo`` (its luma),
+    read mirrored at the edges (as ``texsynth.metrics.dead_end_ratio`` reads a photo), its ends
+    placed at full resolution.
+
+    Examples
+    --------
+    >>> i, j = np.mgrid[:64, :64]
+    >>> wall = np.where((i % 16 < 3) | ((j + 16 * (i // 16 % 2)) % 32 < 3), 0.2, 0.7)
+    >>> joints = Joints.fit(wall, 1.5)
+    >>> int(photo_ends(wall, joints).sum())  # every joint meets another (or the edge)
+    0
+    >>> wall[30:37, 40:48] = 0.7  # a bed joint cut through: two stubs
+    >>> int(photo_ends(wall, joints).sum()) > 0
+    True
+    """
+    _, end = joints.skeleton(photo, wrap=False)
+    f = joints.f
+    r, c = np.nonzero(end)
+    out = np.zeros(photo.shape[:2], bool)
+    out[np.minimum(r * f + f // 2, len(out) - 1), np.minimum(c * f + f // 2, out.shape[1] - 1)] = 1
+    return out
 
 
 def _near(mask: np.ndarray, at: np.ndarray, d: float) -> np.ndarray:
