@@ -66,9 +66,10 @@ Deviations, one line each:
   non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
 - where the output's coarsest level is a crop of the exemplar's (smaller on both sides: a photo
   larger than the output), it is quilted as below, from blocks of a ``CROP_CELLS``-th of its
-  side, and every level then draws among coherent candidates (the ball first on levels of up to
-  ``COHERENT_PIXELS`` locations had left the coherent candidates of 16-23% of every finer
-  level's locations outside the threshold, 4-6% from a crop of the photo, each then a search:
+  side (at least ``CROP_BLOCK``), and every level then draws among coherent candidates (the
+  ball first on levels of up to ``COHERENT_PIXELS`` locations had left the coherent candidates
+  of 16-23% of every finer level's locations outside the threshold, 4-6% from a crop of the
+  photo, each then a search:
   a 12 MP photo to 2048^2 took 2.7x its 1024^2 crop's CPU time, now 1.8x: 22.0 -> 14.3 s,
   medians of 3 alternating runs on a loaded machine; seeds 0-2: seam ratio 1.06, 1.10, 1.05 ->
   1.00, 1.04, 1.09, gradient ratio 1.08, 1.06, 1.07 -> 1.03, 1.02, 1.02, the stones whole);
@@ -147,7 +148,9 @@ TILE = 64
 #: output's side (12 MP photo to 2048^2, seed 0: 2, 3 and 4 cells, seam
 #: ratio 1.07, 1.02 and 1.00, gradient ratio 1.01, 1.02, 1.03; one cell, seam 0.85).
 QUILT_BLOCK, QUILT_OVERLAP, QUILT_RADIUS = 1.0, 0.125, 1 / 3
-CROP_CELLS = 4
+#: A smaller crop is copied (and its wrap made periodic): its blocks would overlap by a
+#: location, and a thin output's quilt did not tile (tests/test_refusals.py).
+CROP_CELLS, CROP_BLOCK = 4, 8
 #: Rows of an exemplar level projected at a time (on the cores, progress between).
 EXEMPLAR_ROWS = 64
 #: A query among coherent candidates in a free query's time (the cost model's figure).
@@ -555,9 +558,10 @@ def _quilt_block(ex_shape, out_shape) -> tuple[int, int, int]:
 def quilted(ex_shape, out_shape) -> bool:
     """Whether an output's coarsest level of ``out_shape`` is quilted from the exemplar's of
     ``ex_shape`` (it is larger on a side, or smaller on both: a crop, whose wrap would be a
-    seam) rather than copied whole."""
+    seam, with blocks of at least ``CROP_BLOCK``) rather than copied whole."""
     return (out_shape[0] > ex_shape[0] or out_shape[1] > ex_shape[1]
-            or out_shape[0] < ex_shape[0] and out_shape[1] < ex_shape[1])
+            or out_shape[0] < ex_shape[0] and out_shape[1] < ex_shape[1]
+            and min(out_shape) // CROP_CELLS >= CROP_BLOCK)
 
 
 def level_work(ex_shapes, out_shapes) -> list[float]:
