@@ -638,7 +638,7 @@ def de_bonet(exemplar, width, height, rng, progress, threshold=0.5, depth=3, sca
         Coarser levels in the parent structure.
     scales : int
         Pyramid levels (capped by exemplar and output sizes); the coarsest is copied, or
-        quilted where the output is larger.
+        quilted where the output is larger or a crop of a larger photo.
     orientations : int
         Oriented subbands per level (K).
 
@@ -779,7 +779,8 @@ METHOD = register(Method(
               "structure dissolves (and matching slows)", 0.0, 2.0),
         Param("depth", int, 3, "Coarser levels in the parent structure", 1, 8),
         Param("scales", int, 4, "Pyramid levels (capped by exemplar and output sizes); the "
-              "coarsest is copied, or quilted where the output is larger", 1, 8),
+              "coarsest is copied, or quilted where the output is larger or a crop of a larger "
+              "photo", 1, 8),
         Param("orientations", int, 4, "Oriented subbands per level (K)", 1, 8),
     ),
     min_exemplar=16,
