@@ -596,11 +596,12 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
                       REFINE_PROPOSERS if refines(lv) else None)
         if stride <= step:  # a table of the lattice
             sub = box_means(centred, step, stride, exemplar_tiles, kept)
+            cost = None  # Q + c_e D: eq. 3 gains c_e D sum(w) at a stub
+            if ends is not None:
+                cost = DEAD_END_COST * dmax * _near_ends(ends, step, repair[1].sigma)[::stride,
+                                                                                      ::stride]
             table = neighbour_table(sub, offsets, step // stride, exemplar_tiles, dmax,
-                                    kept.get("table"), tick)
-            if ends is not None:  # Q + c_e D: eq. 3 gains c_e D sum(w) at a stub
-                near = _near_ends(ends, step, repair[1].sigma)[::stride, ::stride]
-                table[:-1, len(offsets) * c:] += (DEAD_END_COST * dmax * near).reshape(-1, 1)
+                                    kept.get("table"), tick, cost)
             kept["table"] = table
             level = _Level(Rows(table), Rows(sub.reshape(-1, c)), sub.shape[:2], stride, w,
                            offsets, step // stride, exemplar_tiles, *candidates)
