@@ -361,6 +361,11 @@ REPAIR_LEVELS, REPAIR_ROUNDS, REPAIR_REACH = range(2, 5), 2, 1.5
 #: A repaired level's seconds: per output pixel (its map rendered and read at full resolution)
 #: and a share of the level's visits (the holes relaxed again).
 REPAIR_PIXEL_COST, REPAIR_SHARE = 5e-7, 0.5  # fitted on bricks 128 -> 256, pavers 512 -> 1024
+#: Reference seconds of a table level's table per value of a row (``neighbour_table``, K (C + 1)
+#: a lattice pixel): 1024^2 tables of radius 3 (CPU 0.12, 0.22, 0.25 s for C = 1, 3, 5 at speed
+#: 0.29; gathered a band at a time: 1.7e-8 per neighbour and channel had read the former fill's
+#: 0.12, 0.41, 0.75 s).
+TABLE_COST = 5.7e-9
 #: Where there are joints, the seconds per exemplar pixel of reading them before the levels
 #: (the width measured, the rule fitted, the distance channels, the photo's own dead ends):
 #: 2.4e-6 and 1.8e-6 measured on a 1024 crop and the whole rectified 12 MP setts (8.2 MP),
@@ -596,11 +601,12 @@ def _synthesize(exemplar, width, height, rng, progress, radius, visits, random_c
                       REFINE_PROPOSERS if refines(lv) else None)
         if stride <= step:  # a table of the lattice
             sub = box_means(centred, step, stride, exemplar_tiles, kept)
+            cost = None  # Q + c_e D: eq. 3 gains c_e D sum(w) at a stub
+            if ends is not None:
+                cost = DEAD_END_COST * dmax * _near_ends(ends, step, repair[1].sigma)[::stride,
+                                                                                      ::stride]
             table = neighbour_table(sub, offsets, step // stride, exemplar_tiles, dmax,
-                                    kept.get("table"), tick)
-            if ends is not None:  # Q + c_e D: eq. 3 gains c_e D sum(w) at a stub
-                near = _near_ends(ends, step, repair[1].sigma)[::stride, ::stride]
-                table[:-1, len(offsets) * c:] += (DEAD_END_COST * dmax * near).reshape(-1, 1)
+                                    kept.get("table"), tick, cost)
             kept["table"] = table
             level = _Level(Rows(table), Rows(sub.reshape(-1, c)), sub.shape[:2], stride, w,
                            offsets, step // stride, exemplar_tiles, *candidates)
@@ -854,7 +860,7 @@ def _level_costs(shape, width, height, params, factor=1,
             seeded = 1.0 if lv == n_levels - 1 else 7 / 8  # a quarter start at half confidence
             visits = VISIT_COST * (gh * gw * t * seeded * per_visit
                                    * (RANDOM_WEIGHT * params["random_candidates"] * boost + k))
-        table = 0.0 if lv in windows else 1.7e-8 * rows * k * c
+        table = 0.0 if lv in windows else TABLE_COST * rows * k * (c + 1)
         rounds = ROUND_COST * spacing ** 2 * (2 * t + 1)  # measured rounds: 1.7-3.2 spacing^2 T
         side, aspect = min(h, w) / 2 ** lv, max(gh, gw) / min(gh, gw)
         settle = ((SETTLE_COST + SETTLE_SIDE_COST / side) * (1 + aspect / SETTLE_ASPECT)

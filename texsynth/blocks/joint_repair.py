@@ -45,14 +45,16 @@ def render(source: np.ndarray, step: int, shape: tuple[int, int], size: tuple[in
            [1, 2]])
     """
     h, w = size
-    pr, pc = np.divmod(source, w)
-    i = np.arange(shape[0])
-    j = np.arange(shape[1])
-    rows = pr[i // step][:, j // step] + (i % step)[:, None]
-    cols = pc[i // step][:, j // step] + (j % step)[None, :]
-    if wrap:
-        return np.stack([rows % h, cols % w], axis=2)
-    return np.stack([np.minimum(rows, h - 1), np.minimum(cols, w - 1)], axis=2)
+    out = np.empty((*shape, 2), np.int64)
+    for k, (p, bound) in enumerate(zip(np.divmod(source, w), size, strict=True)):
+        block = np.repeat(np.repeat(p, step, axis=0)[:shape[0]], step, axis=1)[:, :shape[1]]
+        inner = np.arange(shape[k]) % step  # the block's offsets along rows, then columns
+        np.add(block, inner[:, None] if k == 0 else inner[None, :], out=out[..., k])
+        if wrap:
+            np.remainder(out[..., k], bound, out=out[..., k])
+        else:
+            np.minimum(out[..., k], bound - 1, out=out[..., k])
+    return out
 
 
 def seams(positions: np.ndarray) -> np.ndarray:
