@@ -4,7 +4,10 @@ JSON: ``{"method": NAME or "make_tileable", "exemplar": [H, W], "size": [W, H], 
 (the exemplar is the pool_water sample's corner, tiled up when larger; make_tileable's photo is
 ``exemplar`` with a ramp across it, so that it does not already tile). In this fresh process,
 after the imports, the exemplar and the calibration: the prediction (``budget.forecast`` /
-``tileable.predict``: what the panel shows and the budgets check), then the run (seed 0); one
+``tileable.predict``: what the panel shows and the budgets check; given the exemplar, as the
+panel and the batch jobs give it, so that a joint width the method would measure is measured:
+the pool_water corners read joints 2 px wide, and from their shape alone multiscale_mrf's 64 ->
+256 was told 0.53-0.61x its time), then the run (seed 0); one
 JSON line with the measured wall seconds and the peak resident memory above the baseline (the
 high-water mark ``VmHWM``, reset through ``/proc/self/clear_refs`` before the run, over the
 resident size ``VmRSS`` then, in bytes: ``ru_maxrss`` cannot be reset, and a transient peak
@@ -46,7 +49,8 @@ def main(case: dict) -> dict:
         seconds, peak = tileable.predict(x.shape)
         run = lambda: tileable.make_tileable(x, seed=0)  # noqa: E731
     else:
-        seconds, peak = budget.forecast(case["method"], x.shape, width, height, params)
+        seconds, peak = budget.forecast(case["method"], x.shape, width, height, params,
+                                        exemplar=x)
         run = lambda: texsynth.synthesize(x, width, height, method=case["method"],  # noqa: E731
                                           seed=0, **params)
     reset_high_water()
