@@ -253,6 +253,11 @@ MEM_SEARCH, SEARCH_PIXELS = 620, 1 << 18
 #: speed), beside 1.2 s of fixed work (the joints' measure, the levels' set-up).
 FIT_PIXELS = 2048 * 2048
 COST_OUT, COST_TABLE, COST_ALIGN = 4.7e-5, 1.46e-5, 8e-6
+#: The work that does not grow with the channels (the descriptors' ``DIMS`` components, the
+#: matches), in channels' worth: the joints' two channels (5 against 3) cost 1.09-1.28x, median
+#: 1.19 (the elements section's CPU column, 512 -> 1024, six photos), where c / 3 told 1.67x and
+#: the predictions' 32 -> 512 from the pool_water corner (joints 2 px) 1.47x its time.
+CHANNEL_BASE = 7.5
 #: EM iterations at the coarse levels (2 and up, a sixteenth of the work or less), times
 #: ``iterations``: there the layout (rows, joints) is decided.
 COARSE = 2
@@ -729,12 +734,14 @@ def _cost(shape, width, height, params):
     size). Fitted to 1024 -> 2048 from the 12 MP setts' centre, the 12 MP setts, the brick
     wall and the gravel (quiet: 77-91 s, the alignment 4-11 % of it; predicted 0.95-1.07x).
     The fixed seconds 1.2 -> 2.1 (issue 45: 64^2 -> 256^2 and -> 2048 x 32 read 1.21-1.33 of
-    the predictions table's median seconds over cost on two hosts, 32^2 -> 512^2 1.02-1.06)."""
+    the predictions table's median seconds over cost on two hosts, 32^2 -> 512^2 1.02-1.06).
+    The work grows with the channels as (c + ``CHANNEL_BASE``) / (3 + ``CHANNEL_BASE``)."""
     shape = feature_distance.working_shape(shape, params["joint_width"])
     c = shape[2]
-    work = params["iterations"] / 3 * c / 3
+    per_channel = (c + CHANNEL_BASE) / (3 + CHANNEL_BASE)
+    work = params["iterations"] / 3 * per_channel
     table = sum(r * k for r, k in _tables(shape, params))
-    align = COST_ALIGN * params["sizes"] * width * height / 3 * c / 3
+    align = COST_ALIGN * params["sizes"] * width * height / 3 * per_channel
     small = min(1.0, width * height / FIT_PIXELS) ** 0.12
     return 2.1 + (COST_OUT * small * params["sizes"] / 2 * width * height
                   + COST_TABLE * table) * work + align
