@@ -259,7 +259,7 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
 
     big, small = photo(p.camera), photo(p.crop)
     table = ["| method | input | time (s) | 12 MP / crop time | peak RSS (MiB) | predicted s / "
-             "ratio | predicted MiB / ratio | seam | gradient |", "|---" * 9 + "|"]
+             "ratio | predicted MiB / ratio | seam | seam in phase | gradient |", "|---" * 10 + "|"]
     pictures = []
     for method in texsynth.methods():
         runs = {key: job(tmp, p.env, "synth", key, method.name, str(p.side))
@@ -270,19 +270,20 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
             if cell(r):
                 predicted = (f"{r['predicted_s']:.0f} | {r['predicted_bytes'] / 2**20:.0f}"
                              if "predicted_s" in r else " |")
-                table.append(f"{head} {cell(r)} | | | {predicted} | | |")
+                table.append(f"{head} {cell(r)} | | | {predicted} | | | |")
                 continue
             other = runs[p.crop]
             ratio = (goals.mark("12 MP / crop time", r["seconds"] / other["seconds"], 0,
                                 CAMERA_OVER_CROP) if key == p.camera and "seconds" in other
                      else "")
             t, m = predictions(r, goals)
-            seam = metrics.seam_ratio(r["image"])
+            phase = metrics.seam_ratio_in_phase(r["image"])
             gradient = metrics.gradient_ratio(exemplar, r["image"])
             table.append(
                 f"{head} {r['seconds']:.0f} | {ratio} | "
                 f"{goals.mark('peak RSS (methods)', r['rss'], 0, PEAK_MIB, 0)} | {t} | {m} | "
-                f"{goals.mark('seam (methods)', seam, *TARGET)} | "
+                f"{metrics.seam_ratio(r['image']):.2f} | "
+                f"{goals.mark('seam in phase (methods)', phase, *TARGET)} | "
                 f"{goals.mark('gradient (methods)', gradient, *TARGET)} |")
         if any("image" in r for r in runs.values()):
             sheet = ctx.contact_sheet(
@@ -304,8 +305,10 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "process read just before it: `budget.machine_factor()`), beside their ratio to the "
         "measured time and to the growth of resident memory over the call (goal: within 1.5x "
         f"either way; not rated under {FLOOR_S:g} s or {FLOOR_MIB:.0f} MiB both ways, as in "
-        "the predictions section). Seam: seam ratio; gradient: the "
-        "output's mean gradient over the photo's (metrics.gradient_ratio); both two-sided, "
+        "the predictions section). Seam: seam ratio, shown; seam in phase: "
+        "`metrics.seam_ratio_in_phase`, rated (the setts' joints put the plain ratio off 1 "
+        "where the wrap falls on a joint or through a stone); gradient: the "
+        "output's mean gradient over the photo's (metrics.gradient_ratio); both rated two-sided, "
         "goal between 0.9 and 1.1 (under it a soft wrap or a blurred output, over it a step or "
         "a noisier output). A refused run shows the library's message.",
         "",
@@ -320,7 +323,8 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
 
 
 def _quality(image: np.ndarray, out: np.ndarray, band: int) -> dict:
-    return {"seam": metrics.seam_ratio(out), "sharp": metrics.band_sharpness(out, band),
+    return {"seam": metrics.seam_ratio(out), "phase": metrics.seam_ratio_in_phase(out),
+            "sharp": metrics.band_sharpness(out, band),
             "gradient": metrics.gradient_ratio(image, out), "kept": unchanged(image, out)}
 
 
@@ -340,8 +344,8 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
     has_gimp = shutil.which("gimp-console-2.10") or shutil.which("gimp-console")
     rs = next(x for x in peers.peers() if x.name == "resynthesizer")
     table = ["| photo | tool | time (s) | ours / Resynth. time | peak RSS (MiB) | predicted s / "
-             "ratio | predicted MiB / ratio | seam | band sharpness | gradient | kept |",
-             "|---" * 11 + "|"]
+             "ratio | predicted MiB / ratio | seam | seam in phase | band sharpness | gradient | "
+             "kept |", "|---" * 12 + "|"]
     pictures, readme, rs_times, tiling = [], [], {}, 0
     for key in p.photos:
         image = photo(key)
@@ -355,13 +359,13 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
             peer_runs = tmp.parent / "peers"
             peer_runs.mkdir(parents=True, exist_ok=True)
             runs["Resynth."] = job(peer_runs, p.env, "resynth", key, timeout=RESYNTH_LIMIT)
-        seam = metrics.seam_ratio(image)
-        tiling += TARGET[0] <= seam <= TARGET[1]
+        phase = metrics.seam_ratio_in_phase(image)
+        tiling += TARGET[0] <= phase <= TARGET[1]
         table.append(f"| **{label(key)}**, {w} x {h}, band {band} | photo as it is | | | | | | "
-                     f"{seam:.2f} | | | |")
+                     f"{metrics.seam_ratio(image):.2f} | {phase:.2f} | | | |")
         for tool, r in runs.items():
             if cell(r):
-                table.append(f"| | {tool} | {cell(r)} | | | | | | | | |")
+                table.append(f"| | {tool} | {cell(r)} | | | | | | | | | |")
                 continue
             q = _quality(image, r["image"], band)
             ratio = ""
@@ -376,8 +380,10 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
                 f"{r['rss']:.0f}" if tool == "Resynth." else "")
             table.append(
                 f"| | {tool} | {r['seconds']:.1f} | {ratio} | {peak} | {t} | {m} | "
+                f"{q['seam']:.2f} | "
                 + " | ".join(goals.mark(f"{name} ({tool})", q[f], *TARGET)
-                             for f, name in (("seam", "seam"), ("sharp", "band sharpness"),
+                             for f, name in (("phase", "seam in phase"),
+                                             ("sharp", "band sharpness"),
                                              ("gradient", "gradient")))
                 + f" | {q['kept']:.2f} |")
         if key.partition("@")[0] == README_PHOTO and "image" in runs["ours"]:
@@ -400,15 +406,18 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
     md = [
         "### make_tileable at the photo's own size",
         "",
-        f"{tiling} of the {len(p.photos)} photos already tile as they are (seam ratio between "
-        "0.9 and 1.1: game textures made to tile at their own size); on them make_tileable "
-        "should change nothing visible.",
+        f"{tiling} of the {len(p.photos)} photos already tile as they are (seam ratio in phase "
+        "between 0.9 and 1.1: game textures made to tile at their own size); on them "
+        "make_tileable should change nothing visible.",
         "",
         "Every large photo at its own size and the 12 MP photo made to tile by "
         f"`texsynth.make_tileable` (defaults: band `default_band`, seed {SEED}), beside "
         f"{gimp_note}, and {rs_note}. Peak RSS and predictions as above (predictions: "
         "`texsynth.tileable.predict` given the photo: one that already tiles is told the "
-        "check and a copy). Seam: seam ratio; band sharpness: "
+        "check and a copy). Seam: seam ratio, shown; seam in phase: "
+        "`metrics.seam_ratio_in_phase`, rated (on pavers, bricks and setts the plain ratio reads "
+        "high where the wrap falls on a joint's edge and low through the blocks, though no seam "
+        "shows); band sharpness: "
         "`metrics.band_sharpness(out, band)` (the middle of the band's mean gradient over the "
         "kept pixels'); gradient: the result's mean gradient over the photo's; all three "
         "two-sided, goal between 0.9 and 1.1: a seam ratio of 0.5 is a soft line where the tiles "
