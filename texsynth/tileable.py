@@ -623,10 +623,13 @@ def _arm(kept, kept_at, unlike, source, lay, rng, report, used):
     return out, out_at
 
 
-#: A photo that already tiles: the check's reference seconds a pixel (0.02-0.05 s a megapixel
-#: at machine factor 0.25, 1-4 MP), and the bytes a pixel beside the copy's float32 channels
-#: (the positions, int32 x 2, and the check's luminance and sums; 27 measured at 1 and 4 MP).
-TILED_SECONDS_PER_PIXEL, TILED_BYTES_PER_PIXEL = 1.2e-7, 16
+#: A photo that already tiles: the check's and the copy's reference seconds a pixel, beside
+#: their pages (:func:`budget.seconds`), fitted at 4 MP, where the time first counts (the
+#: photos section's 2048 setts: 0.24-0.30 s in fresh processes at machine factor 0.25, told
+#: 0.17-0.20 s at 1.2e-7; 1 MP copies take 0.025 s, told 0.06 s, under any budget's notice),
+#: and the bytes a pixel beside the copy's float32 channels (the positions, int32 x 2, and the
+#: check's luminance and sums; 27 measured at 1 and 4 MP).
+TILED_SECONDS_PER_PIXEL, TILED_BYTES_PER_PIXEL = 1.6e-7, 16
 
 
 def predict(shape, band: int | None = None, photo=None) -> tuple[float, float]:
