@@ -166,8 +166,12 @@ CROP_OVERLAP = 0.125
 CROP_CELLS, CROP_BLOCK = 4, 8
 #: Rows of an exemplar level projected at a time (on the cores, progress between).
 EXEMPLAR_ROWS = 64
-#: A query among coherent candidates in a free query's time (the cost model's figure).
-COHERENT_COST = 0.56
+#: A query among coherent candidates in a free query's time (the cost model's figure), and
+#: one on a level that searches no ball where none fits (at least ``COHERENT_PIXELS``
+#: locations; issue 41: 1024^2 -> 2048^2 took 0.72-0.78 of the CPU time, a 12 MP photo 0.80;
+#: predicted over measured time, one run each on a loaded machine, 1.08 -> 1.17 on a brick wall
+#: 1024^2 -> 2048^2 and 0.92 -> 0.97 on the 12 MP photo, 1.6 and 1.2 at 0.56).
+COHERENT_COST, NEAREST_COST = 0.56, 0.42
 #: Seconds on the reference machine a quilted block takes (its search, cuts and masks: 2.4-2.6
 #: ms CPU at load 14, 1.6 ms quiet, from 32^2 to 512^2 and 1024^2 and 64^2 to 1024^2; the
 #: 1849 blocks of 32^2 -> 1024^2 took 57 % of its CPU time, and the model had no term).
@@ -589,9 +593,18 @@ def level_work(ex_shapes, out_shapes) -> list[float]:
     queries: its output locations' queries and its exemplar locations' projection and index.
     The progress goes by it: equal shares told a quarter done at a twentieth of the time."""
     quilt = quilted(ex_shapes[-1], out_shapes[-1])   # every level draws coherent ones first
-    return [h * w * (COHERENT_COST if quilt or h * w > COHERENT_PIXELS else 1.0)
-            + INDEX_WORK * math.sqrt(ex[0] * ex[1])
+    return [h * w * _query_cost(h * w, quilt) + INDEX_WORK * math.sqrt(ex[0] * ex[1])
             for ex, (h, w) in zip(ex_shapes[:-1], out_shapes[:-1], strict=True)]
+
+
+def _query_cost(n: float, quilt: bool) -> float:
+    """A query's time, in free queries, on a level of ``n`` output locations: among coherent
+    candidates (those of every level where the coarsest is quilted), without the ball's search
+    from ``COHERENT_PIXELS`` locations on, else in the ball."""
+    coherent = quilt or n > COHERENT_PIXELS
+    if coherent and n >= COHERENT_PIXELS:
+        return NEAREST_COST
+    return COHERENT_COST if coherent else 1.0
 
 
 def quilt_work(ex_shapes, out_shapes) -> float:
@@ -747,16 +760,16 @@ def _memory(shape, width, height, params):
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Per output location, a
     parent-structure query of a kd-tree (about ``depth`` ancestors of K + 1 values per channel),
-    about 0.56 times that on a level with coherent candidates (level l holds 3/4 of 4^-l of the
-    pyramid's locations); per exemplar pixel, its periodic component, Laplacian pyramid and
-    projected parent structures; per indexed location, the tree's build. Fitted on a 1024^2
-    crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at factor 0.36; the query term had
-    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, as the
-    12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then 8.6 -> 5.8 s, medians of
-    alternating runs on a loaded machine) once its finest level's table was made by slices:
-    not refitted on a quiet machine. Per block of the coarsest level's quilting,
-    ``QUILT_COST`` (issue 45: a 32^2 exemplar to 1024^2 was predicted 0.44-0.47 of its time,
-    the square rows 1.0-1.2)."""
+    about 0.56 times that on a level with coherent candidates, 0.42 where it searches no ball
+    (:func:`_query_cost`; level l holds 3/4 of 4^-l of the pyramid's locations); per exemplar pixel,
+    its periodic component, Laplacian pyramid and projected parent structures; per indexed location,
+    the tree's build. Fitted on a 1024^2 crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at
+    factor 0.36; the query term had predicted under half of the crop's time); the per-pixel term
+    then scaled by 0.73, as the 12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then
+    8.6 -> 5.8 s, medians of alternating runs on a loaded machine) once its finest level's table was
+    made by slices: not refitted on a quiet machine. Per block of the coarsest level's quilting,
+    ``QUILT_COST`` (issue 45: a 32^2 exemplar to 1024^2 was predicted 0.44-0.47 of its time, the
+    square rows 1.0-1.2)."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
@@ -765,7 +778,7 @@ def _cost(shape, width, height, params):
     quilt = quilted(*_coarsest(shape, width, height, levels))
     for level in range(16):
         n = pixels * 4.0**-level
-        locations += 0.75 * n * (COHERENT_COST if quilt or n > COHERENT_PIXELS else 1.0)
+        locations += 0.75 * n * _query_cost(n, quilt)
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
             + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c
             + QUILT_COST * _quilt_blocks(shape, width, height, levels))
