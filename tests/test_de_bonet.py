@@ -99,8 +99,10 @@ def test_spots_on_lines_stay_on_lines_where_heeger_bergen_scatters_them(coherent
 
 def test_coherent_levels_tile_and_repeat_with_the_seed(coherent):
     exemplar = _photo(size=64)
+    # coherent: seed 5's quilt of the 4 x 4 coarsest level (16 offsets) is seed 4's, and no
+    # ball is searched where no candidate fits (production sizes): the same output
     first, again, other = (texsynth.synthesize(exemplar, 96, 80, method="de_bonet", seed=seed)
-                           for seed in (4, 4, 5))
+                           for seed in (4, 4, 6))
     np.testing.assert_array_equal(first, again)
     assert not np.array_equal(first, other)
     assert first.shape == (80, 96, 3) and first.dtype == np.float32
@@ -144,6 +146,11 @@ def test_ball_sampler_draws_among_distinct_candidates_inside_then_from_the_ball(
     assert set(draws) == ball and len(ball) > 2
     far = sampler.draw_among(np.array([[30.0, 4.2]]), np.array([[c, c, c, c]]), rng)
     assert grid[far[0]].tolist() == [19.0, 4.0]
+    # without the search (production sizes): the nearest candidate, though the ball has points
+    d = index[(5.0, 8.0)]                                          # outside, nearer than c
+    draws = sampler.draw_among(np.repeat(query, 400, 0), np.tile([c, d, c, c], (400, 1)), rng,
+                               search=False)
+    assert set(draws) == {d}
 
 
 def test_coherent_candidates_continue_a_shifted_copy_of_the_exemplar():

@@ -56,12 +56,19 @@ Deviations, one line each:
 - production sizes (k-coherence, after Ashikhmin 2001, section 3, and Tong et al. 2002): a level
   with more than ``COHERENT_PIXELS`` locations first draws uniformly among its coherent
   candidates within ``threshold`` (the exemplar children of its four bilinear parents' sources,
-  at its offset from each: :func:`coherent_candidates`), and searches the ball only where none
-  is; the draw is then among part of the ball (on gravel at 1024 -> 2048 the ball holds one
-  point or none for 99% of the finest level's locations; a candidate is inside for 67% of
-  them, the ball is not empty for 68%); with the rest: patch distance 0.224 -> 0.215,
-  structure 0.159 -> 0.152 on gravel, 0.414 -> 0.403 and 0.211 -> 0.211 on a brick wall, in
-  a quarter of the CPU time;
+  at its offset from each: :func:`coherent_candidates`), and takes the nearest of them where
+  none is within (Tong et al.'s best candidate; searching the ball there drew, along the
+  coarsest level's quilt cuts, locations continuing neither side: a band of scrambled bricks
+  some 60 pixels wide on a brick wall at 2048^2, issue 41; now a cut between two copies, a
+  thinner band where the 512^2 level searched too); a level of fewer than
+  ``COHERENT_PIXELS`` locations drawing among them searches the ball there (the nearest
+  candidate on every level: repetition peak 0.22-0.36 and seam ratio 0.79-0.94 on a grain
+  96 -> 192, seeds 0-3; with the search 0.13-0.17 and 0.95-0.98); the draw is then among part
+  of the ball
+  (on gravel at 1024 -> 2048 the ball holds one point or none for 99% of the finest level's
+  locations; a candidate is inside for 67% of them, the ball is not empty for 68%); with the
+  rest: patch distance 0.224 -> 0.215, structure 0.159 -> 0.152 on gravel, 0.414 -> 0.403 and
+  0.211 -> 0.211 on a brick wall, in a quarter of the CPU time;
 - the exemplar pyramid is built from its periodic component (Moisan), so the border jump of a
   non-tiling photo gives no false parents; output values are clipped to the exemplar's range;
 - where the output's coarsest level is a crop of the exemplar's (smaller on both sides: a photo
@@ -83,7 +90,7 @@ Deviations, one line each:
   so the wrap is a straight boundary between two copies, rougher than 3/4 of the lines);
 - where the output's coarsest level is larger than the exemplar's (an output larger than the
   photo), it is not the exemplar's tiled but quilted from it on the torus (Efros & Freeman 2001,
-  2.1: ``blocks.quilting.torus_quilt``; blocks of the exemplar's coarsest side, an eighth of it
+  2.1: ``blocks.quilting.torus_quilt``; blocks of the exemplar's coarsest side, a quarter of it
   overlapping, no block at a neighbour's offset or within a third of that side of another's
   source), and every level then draws among coherent candidates: tiled, each finer level's
   parent structure found the exemplar's own location again (65% of the finest level copied
@@ -147,14 +154,24 @@ TILE = 64
 #: where the output's is a crop of it (smaller on both sides), over a ``CROP_CELLS``-th of the
 #: output's side (12 MP photo to 2048^2, seed 0: 2, 3 and 4 cells, seam
 #: ratio 1.07, 1.02 and 1.00, gradient ratio 1.01, 1.02, 1.03; one cell, seam 0.85).
-QUILT_BLOCK, QUILT_OVERLAP, QUILT_RADIUS = 1.0, 0.125, 1 / 3
+#: The overlap is Efros & Freeman's quarter of a block from the exemplar's side (issue 41: an
+#: eighth left the last row and column, cut against the first as well, too narrow a strip to
+#: meet both: the seam ratio in phase of a brick wall 1024 -> 2048 was 0.82-1.20 on seeds
+#: 0-7, now 0.95-1.01), an eighth of a crop's cell (a quarter there: seam ratio from a 12 MP
+#: photo to 2048^2 0.97, 0.91, 0.85 on seeds 0-2, the wrap through a stone fused at a cut).
+QUILT_BLOCK, QUILT_OVERLAP, QUILT_RADIUS = 1.0, 0.25, 1 / 3
+CROP_OVERLAP = 0.125
 #: A smaller crop is copied (and its wrap made periodic): its blocks would overlap by a
 #: location, and a thin output's quilt did not tile (tests/test_refusals.py).
 CROP_CELLS, CROP_BLOCK = 4, 8
 #: Rows of an exemplar level projected at a time (on the cores, progress between).
 EXEMPLAR_ROWS = 64
-#: A query among coherent candidates in a free query's time (the cost model's figure).
-COHERENT_COST = 0.56
+#: A query among coherent candidates in a free query's time (the cost model's figure), and
+#: one on a level that searches no ball where none fits (at least ``COHERENT_PIXELS``
+#: locations; issue 41: 1024^2 -> 2048^2 took 0.72-0.78 of the CPU time, a 12 MP photo 0.80;
+#: predicted over measured time, one run each on a loaded machine, 1.08 -> 1.17 on a brick wall
+#: 1024^2 -> 2048^2 and 0.92 -> 0.97 on the 12 MP photo, 1.6 and 1.2 at 0.56).
+COHERENT_COST, NEAREST_COST = 0.56, 0.42
 #: Seconds on the reference machine a quilted block takes (its search, cuts and masks: 2.4-2.6
 #: ms CPU at load 14, 1.6 ms quiet, from 32^2 to 512^2 and 1024^2 and 64^2 to 1024^2; the
 #: 1849 blocks of 32^2 -> 1024^2 took 57 % of its CPU time, and the model had no term).
@@ -423,21 +440,26 @@ class BallSampler:
         return chosen
 
     def draw_among(self, queries: np.ndarray, candidates: np.ndarray,
-                   rng: np.random.Generator) -> np.ndarray:
+                   rng: np.random.Generator, search: bool = True) -> np.ndarray:
         """One point index per query row, drawn uniformly among its distinct ``candidates``
         (one row of point indices per query) within ``radius``; a query with none inside takes
         its nearest point (within ``1 + nearest_eps``), or draws from the whole ball
-        (:meth:`draw`) where that point is inside it."""
+        (:meth:`draw`) where that point is inside it; without ``search``, the nearest of its
+        candidates (Tong et al. 2002, the k-coherence search's best candidate)."""
         diff = self.points[candidates] - queries[:, None, :]
-        inside = np.einsum("nkd,nkd->nk", diff, diff) <= self.radius**2
+        d2 = np.einsum("nkd,nkd->nk", diff, diff)
+        inside = d2 <= self.radius**2
         for j in range(1, candidates.shape[1]):  # a repeated candidate counts once
             inside[:, j] &= (candidates[:, :j] != candidates[:, j:j + 1]).all(axis=1)
         count = inside.sum(axis=1)
         pick = (rng.random(len(queries)) * count).astype(np.int64)
         column = (np.cumsum(inside, axis=1) > pick[:, None]).argmax(axis=1)
+        if not search:
+            none = count == 0
+            column[none] = d2[none].argmin(axis=1)
         chosen = candidates[np.arange(len(queries)), column].astype(np.int64)
         none = np.flatnonzero(count == 0)
-        if len(none):
+        if search and len(none):
             # most of these have an empty ball: the nearest point first, the ball where it is in
             # (the approximate nearest may be outside a ball that is not empty: a missed member)
             dist, nearest = self.tree.query(queries[none], k=1, eps=self.nearest_eps,
@@ -534,7 +556,8 @@ def sample_pyramid(features, out_shapes, threshold, depth, rng, progress):
             if quilt or h * w > COHERENT_PIXELS:
                 candidates = coherent_candidates(sources[level + 1], ex_shapes[level:level + 2],
                                                  (h, w), rows)
-                src[rows] = sampler.draw_among(queries, candidates, rng)
+                src[rows] = sampler.draw_among(queries, candidates, rng,
+                                               search=h * w < COHERENT_PIXELS)
             else:
                 src[rows] = sampler.draw(queries, rng)
             step(indexed + (1.0 - indexed) * (rows[-1] + 1) / (h * w),
@@ -552,7 +575,8 @@ def _quilt_block(ex_shape, out_shape) -> tuple[int, int, int]:
     crop = out_shape[0] < ex_shape[0] and out_shape[1] < ex_shape[1]
     side = min(out_shape) // CROP_CELLS if crop else min(ex_shape)
     block = max(4, round(side * QUILT_BLOCK))
-    return block, max(1, round(block * QUILT_OVERLAP)), min(block // 2, int(side * QUILT_RADIUS))
+    overlap = max(1, round(block * (CROP_OVERLAP if crop else QUILT_OVERLAP)))
+    return block, overlap, min(block // 2, int(side * QUILT_RADIUS))
 
 
 def quilted(ex_shape, out_shape) -> bool:
@@ -569,9 +593,18 @@ def level_work(ex_shapes, out_shapes) -> list[float]:
     queries: its output locations' queries and its exemplar locations' projection and index.
     The progress goes by it: equal shares told a quarter done at a twentieth of the time."""
     quilt = quilted(ex_shapes[-1], out_shapes[-1])   # every level draws coherent ones first
-    return [h * w * (COHERENT_COST if quilt or h * w > COHERENT_PIXELS else 1.0)
-            + INDEX_WORK * math.sqrt(ex[0] * ex[1])
+    return [h * w * _query_cost(h * w, quilt) + INDEX_WORK * math.sqrt(ex[0] * ex[1])
             for ex, (h, w) in zip(ex_shapes[:-1], out_shapes[:-1], strict=True)]
+
+
+def _query_cost(n: float, quilt: bool) -> float:
+    """A query's time, in free queries, on a level of ``n`` output locations: among coherent
+    candidates (those of every level where the coarsest is quilted), without the ball's search
+    from ``COHERENT_PIXELS`` locations on, else in the ball."""
+    coherent = quilt or n > COHERENT_PIXELS
+    if coherent and n >= COHERENT_PIXELS:
+        return NEAREST_COST
+    return COHERENT_COST if coherent else 1.0
 
 
 def quilt_work(ex_shapes, out_shapes) -> float:
@@ -727,16 +760,16 @@ def _memory(shape, width, height, params):
 def _cost(shape, width, height, params):
     """Seconds on the reference machine (``texsynth.budget``). Per output location, a
     parent-structure query of a kd-tree (about ``depth`` ancestors of K + 1 values per channel),
-    about 0.56 times that on a level with coherent candidates (level l holds 3/4 of 4^-l of the
-    pyramid's locations); per exemplar pixel, its periodic component, Laplacian pyramid and
-    projected parent structures; per indexed location, the tree's build. Fitted on a 1024^2
-    crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at factor 0.36; the query term had
-    predicted under half of the crop's time); the per-pixel term then scaled by 0.73, as the
-    12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then 8.6 -> 5.8 s, medians of
-    alternating runs on a loaded machine) once its finest level's table was made by slices:
-    not refitted on a quiet machine. Per block of the coarsest level's quilting,
-    ``QUILT_COST`` (issue 45: a 32^2 exemplar to 1024^2 was predicted 0.44-0.47 of its time,
-    the square rows 1.0-1.2)."""
+    about 0.56 times that on a level with coherent candidates, 0.42 where it searches no ball
+    (:func:`_query_cost`; level l holds 3/4 of 4^-l of the pyramid's locations); per exemplar pixel,
+    its periodic component, Laplacian pyramid and projected parent structures; per indexed location,
+    the tree's build. Fitted on a 1024^2 crop and the 12 MP photo to 2048^2 (14.0 and 21.6 s at
+    factor 0.36; the query term had predicted under half of the crop's time); the per-pixel term
+    then scaled by 0.73, as the 12 MP photo's CPU time beyond its crop's fell (6.4 -> 4.7 s, then
+    8.6 -> 5.8 s, medians of alternating runs on a loaded machine) once its finest level's table was
+    made by slices: not refitted on a quiet machine. Per block of the coarsest level's quilting,
+    ``QUILT_COST`` (issue 45: a 32^2 exemplar to 1024^2 was predicted 0.44-0.47 of its time, the
+    square rows 1.0-1.2)."""
     h, w, c = shape
     k, depth = params["orientations"], params["depth"]
     spread = (1.0 + params["threshold"]) ** 2
@@ -745,7 +778,7 @@ def _cost(shape, width, height, params):
     quilt = quilted(*_coarsest(shape, width, height, levels))
     for level in range(16):
         n = pixels * 4.0**-level
-        locations += 0.75 * n * (COHERENT_COST if quilt or n > COHERENT_PIXELS else 1.0)
+        locations += 0.75 * n * _query_cost(n, quilt)
     return (0.03 + 1.5e-6 * locations * spread * (1 + depth * (k + 1) * c / 15)
             + 3.6e-7 * h * w * c + 3.1e-8 * sum(_indexed(shape, levels)) * depth * (k + 1) * c
             + QUILT_COST * _quilt_blocks(shape, width, height, levels))
