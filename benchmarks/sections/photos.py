@@ -419,7 +419,7 @@ def _tileable(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "high where the wrap falls on a joint's edge and low through the blocks, though no seam "
         "shows); band sharpness: "
         "`metrics.band_sharpness(out, band)` (the middle of the band's mean gradient over the "
-        "kept pixels'); gradient: the result's mean gradient over the photo's; all three "
+        "kept pixels'); gradient: the result's mean gradient over the photo's; the rated three "
         "two-sided, goal between 0.9 and 1.1: a seam ratio of 0.5 is a soft line where the tiles "
         "meet, as far off as 1.5 (a step), and a sharpness under 0.9 a blurred cross. Kept: "
         "share of pixels equal to the photo's at 8 bits. Ours / Resynth.: goal at most "

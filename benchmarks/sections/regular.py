@@ -106,7 +106,7 @@ def run(ctx) -> str:
         "make_tileable (defaults, seed 0) on every large photo at its own size and on the 12 MP "
         "photo (see the photos section), each run in its own process: time, peak RSS and "
         "predictions as there. Seam: `metrics.seam_ratio`, shown, not rated (on bricks and "
-        "setts it reads far from 1 across the photo's own lines: the next column); seam in "
+        "setts it reads far from 1 across the photo's own lines: the column before); seam in "
         "phase: "
         "`metrics.seam_ratio_in_phase`, the jump across the wrap over the jumps across the "
         "photo's own lines at the same place in its rhythm (a joint on the wrap against joints, "
