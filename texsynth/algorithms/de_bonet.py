@@ -454,11 +454,10 @@ class BallSampler:
         count = inside.sum(axis=1)
         pick = (rng.random(len(queries)) * count).astype(np.int64)
         column = (np.cumsum(inside, axis=1) > pick[:, None]).argmax(axis=1)
+        none = np.flatnonzero(count == 0)
         if not search:
-            none = count == 0
             column[none] = d2[none].argmin(axis=1)
         chosen = candidates[np.arange(len(queries)), column].astype(np.int64)
-        none = np.flatnonzero(count == 0)
         if search and len(none):
             # most of these have an empty ball: the nearest point first, the ball where it is in
             # (the approximate nearest may be outside a ball that is not empty: a missed member)
