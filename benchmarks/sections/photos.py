@@ -146,8 +146,9 @@ def _child(kind: str, key: str, extra: list[str], out: str) -> None:
     from texsynth import budget
 
     image = photo(key)
-    factor = budget.machine_factor()  # this machine's speed and load just before the run
-    figures = {"base": jobs.reset_peak(), "factor": factor}  # base: interpreter, imports, photo
+    figures = _predicted(kind, image, extra)  # before the run, as the command line makes them
+    figures["factor"] = budget.machine_factor()  # the speed and load the predictions read
+    figures["base"] = jobs.reset_peak()  # interpreter, imports, photo
     if kind == "synth":
         name, side = extra[0], int(extra[1])
 
@@ -178,19 +179,21 @@ def job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
     record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
-    return record | _predicted(kind, photo(key), extra, record.get("factor"))
+    if kind in ("synth", "tileable") and not record.keys() & {"predicted_s", "error"}:
+        (tmp / stem).with_suffix(".json").unlink()  # kept before the run made its predictions
+        record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
+    return record
 
 
-def _predicted(kind: str, image: np.ndarray, extra: tuple, factor: float | None) -> dict:
-    """The library's predictions for a run, given the photo as the command line, batches and
-    operators give it (``budget.forecast`` counts the joints a method would measure,
-    ``tileable.predict`` checks whether it already tiles): model calls, so a record kept from a
-    run of the same synthesis code is read with the models as they are now, at the machine
-    factor (speed and load) the run's own process read just before it (this process's when the
-    record has none)."""
+def _predicted(kind: str, image: np.ndarray, extra: tuple) -> dict:
+    """The library's predictions for a run, made in the run's own process just before it, given
+    the photo as the command line, batches and operators give it (``budget.forecast`` counts
+    the joints a method would measure, ``tileable.predict`` checks whether it already tiles).
+    Made in the benchmark process instead, they read its machine factor and page price
+    (``budget.page_seconds``), not the run's: a re-run from kept records, under load, moved the
+    tiled 2048 setts' predicted time from 0.2 to 0.3 s."""
     from texsynth import budget, tileable
 
-    scale = 1.0 if factor is None else factor / budget.machine_factor()
     if kind == "tileable":
         seconds, peak = tileable.predict(image.shape, photo=image)
     elif kind == "synth":
@@ -198,7 +201,7 @@ def _predicted(kind: str, image: np.ndarray, extra: tuple, factor: float | None)
         seconds, peak = budget.forecast(extra[0], image.shape, side, side, exemplar=image)
     else:
         return {}
-    return {"predicted_s": seconds * scale, "predicted_bytes": peak}
+    return {"predicted_s": seconds, "predicted_bytes": peak}
 
 
 class Goals:
@@ -301,9 +304,10 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         f"{CAMERA_OVER_CROP}); peak RSS: the run's process's peak resident memory (VmHWM: "
         "interpreter, imports and the photo included; goal: at most 4 GiB); predicted: "
         "`texsynth.budget.forecast` given the photo, as the panel, the command line and "
-        "batches call it (model calls at the machine factor, speed times load, the run's "
-        "process read just before it: `budget.machine_factor()`), beside their ratio to the "
-        "measured time and to the growth of resident memory over the call (goal: within 1.5x "
+        "batches call it, in the run's own process just before the run (at the machine "
+        "factor it reads then, speed times load: `budget.machine_factor()`), beside their "
+        "ratio to the measured time and to the growth of resident memory over the call (goal: "
+        "within 1.5x "
         f"either way; not rated under {FLOOR_S:g} s or {FLOOR_MIB:.0f} MiB both ways, as in "
         "the predictions section). Seam: seam ratio, shown; seam in phase: "
         "`metrics.seam_ratio_in_phase`, rated (the setts' joints put the plain ratio off 1 "
