@@ -178,11 +178,7 @@ def job(tmp: Path, env: dict, kind: str, key: str, *extra: str,
          timeout: float | None = None) -> dict:
     print(f"   {kind} {key} {' '.join(extra)}", flush=True)
     stem = "_".join([kind, re.sub(r"[^A-Za-z0-9_-]", "-", key), *extra])
-    record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
-    if kind in ("synth", "tileable") and not record.keys() & {"predicted_s", "error"}:
-        (tmp / stem).with_suffix(".json").unlink()  # kept before the run made its predictions
-        record = jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
-    return record
+    return jobs.run(__name__, [kind, key, *extra], tmp / stem, timeout, env)
 
 
 def _predicted(kind: str, image: np.ndarray, extra: tuple) -> dict:
@@ -306,10 +302,9 @@ def _methods(ctx, p: Plan, tmp: Path, goals: Goals) -> list[str]:
         "`texsynth.budget.forecast` given the photo, as the panel, the command line and "
         "batches call it, in the run's own process just before the run (at the machine "
         "factor it reads then, speed times load: `budget.machine_factor()`), beside their "
-        "ratio to the measured time and to the growth of resident memory over the call (goal: "
-        "within 1.5x "
-        f"either way; not rated under {FLOOR_S:g} s or {FLOOR_MIB:.0f} MiB both ways, as in "
-        "the predictions section). Seam: seam ratio, shown; seam in phase: "
+        "ratio to the measured time and to the growth of resident memory over the call "
+        f"(goal: within 1.5x either way; not rated under {FLOOR_S:g} s or {FLOOR_MIB:.0f} MiB "
+        "both ways, as in the predictions section). Seam: seam ratio, shown; seam in phase: "
         "`metrics.seam_ratio_in_phase`, rated (the setts' joints put the plain ratio off 1 "
         "where the wrap falls on a joint or through a stone); gradient: the "
         "output's mean gradient over the photo's (metrics.gradient_ratio); both rated two-sided, "
